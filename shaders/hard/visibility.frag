@@ -1,0 +1,28 @@
+// hard: one biased depth test per pixel (Williams 1978).
+// pcf (defined PCF): the mean of the tests over an n x n texel kernel centred on the receiver's
+// texel (Reeves et al. 1987, percentage-closer filtering).
+#include "../common/gbuffer_access.glsl"
+#include "../common/shadow_lookup.glsl"
+#ifdef PCF
+uniform int pcfKernel;  // n, odd
+#endif
+layout(location = 0) out float visibility;
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    if (isBackground(pixel)) {
+        visibility = 1.0;
+        return;
+    }
+    vec3 p = worldPosition(pixel);
+    vec3 n = worldNormal(pixel);
+#ifdef PCF
+    int radius = pcfKernel / 2;
+    float lit = 0.0;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) lit += shadowTestOffset(p, n, vec2(dx, dy));
+    visibility = lit / float(pcfKernel * pcfKernel);
+#else
+    visibility = shadowTest(p, n);
+#endif
+}

@@ -1,0 +1,18 @@
+// C++ prologue for the shared GLSL/C++ math (STYLE.md 4). The .glsl files in this folder are
+// written in the common subset of GLSL 4.50 and C++20 with GLM: no out parameters, float literals
+// with an f suffix, uint literals with a u suffix, functions marked SHARED_FN. Shaders include
+// them through the include expander; C++ includes this header and calls them as
+// shadowlab::shared::function(...), so unit tests run exactly the code the shaders run.
+#pragma once
+#include <cstdint>
+#include <glm/glm.hpp>
+
+namespace shadowlab::shared {
+using namespace glm;
+using uint = std::uint32_t;
+#define SHARED_FN inline
+#include "light_sampling.glsl"
+#include "shadow_projection.glsl"
+#include "square_occluder.glsl"
+#undef SHARED_FN
+}  // namespace shadowlab::shared

@@ -1,0 +1,45 @@
+// OpenGL 4.5 core contexts (DESIGN.md section 3): headless EGL surfaceless (default), OSMesa
+// (--gl osmesa) and, from app/, a GLFW window. All render through the same code into FBOs.
+#pragma once
+#include <memory>
+#include <string>
+
+namespace shadowlab {
+
+enum class GLBackend { Egl, OSMesa, Glfw };
+
+// KHR_debug: every GL error message is counted and printed to stderr (synchronous output, so a
+// debugger breaks at the call). Tests fail when the count grows; the CLI exits 1 at the end of a
+// command that raised one. (No exception is thrown from the callback: it runs inside the driver.)
+struct GLDebugState {
+    int errors = 0;
+    std::string lastError;
+};
+GLDebugState& glDebugState();
+// Installs the debug callback on the current context (needs a debug context for all messages).
+void installGLDebugCallback();
+
+class GLContext {
+public:
+    virtual ~GLContext() = default;
+    virtual void makeCurrent() = 0;
+    GLBackend backend() const { return backend_; }
+    std::string renderer() const;  // GL_RENDERER
+    std::string version() const;   // GL_VERSION
+    // True on Mesa's llvmpipe/softpipe, whose timer queries time one tile: time on the CPU there.
+    bool isSoftwareRasterizer() const;
+
+protected:
+    GLBackend backend_ = GLBackend::Egl;
+};
+
+// Creates a headless context (Egl or OSMesa), makes it current and loads the GL functions.
+// Throws InternalError with the reason when the platform cannot give OpenGL 4.5 core.
+std::unique_ptr<GLContext> createHeadlessContext(GLBackend backend);
+
+// For contexts made elsewhere (GLFW): loads GL functions through `loader`, installs debug output.
+void initializeGLForCurrentContext(void* (*loader)(const char*));
+
+GLBackend parseBackend(const std::string& name);  // "egl" | "osmesa"; InputError otherwise
+
+}  // namespace shadowlab

@@ -1,0 +1,27 @@
+// Every technique, one line each, in the order `shadowlab list` shows them.
+#include "technique.h"
+
+namespace shadowlab {
+
+const TechniqueDesc& hardTechnique();
+const TechniqueDesc& pcfTechnique();
+const TechniqueDesc& referenceTechnique();
+const TechniqueDesc& raytracedTechnique();
+
+const std::vector<const TechniqueDesc*>& allTechniques() {
+    static const std::vector<const TechniqueDesc*> all = {
+        &hardTechnique(),
+        &pcfTechnique(),
+        &referenceTechnique(),
+        &raytracedTechnique(),
+    };
+    return all;
+}
+
+const TechniqueDesc* findTechnique(const std::string& id) {
+    for (const TechniqueDesc* d : allTechniques())
+        if (d->id == id) return d;
+    return nullptr;
+}
+
+}  // namespace shadowlab
