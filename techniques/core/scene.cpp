@@ -186,6 +186,20 @@ std::string describe(const json& v) {
     }
 }
 
+// nlohmann quotes the text it read before the error ("last read: '<text>'"), which can be a whole
+// base64 buffer: keep only its end, where the error is.
+std::string shortenLastRead(std::string detail) {
+    const std::string marker = "last read: '";
+    const size_t start = detail.find(marker);
+    if (start == std::string::npos) return detail;
+    const size_t from = start + marker.size();
+    size_t end = detail.find("'; expected", from);
+    if (end == std::string::npos) end = detail.rfind('\'');
+    const size_t keep = 40;
+    if (end != std::string::npos && end > from + keep + 3) detail.replace(from, end - keep - from, "...");
+    return detail;
+}
+
 // Builds the DOM like nlohmann::json::parse, and also tracks the path of the value being read, so
 // that a number that overflows to infinity (which nlohmann reports without a place) and a field
 // given twice (which nlohmann silently collapses) are reported by field path.
@@ -335,7 +349,7 @@ json parseJson(const std::string& file, const std::string& text) {
             }
             const size_t column = index - lineStart + 1;
             throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
-                             ": malformed JSON: " + sax.detail);
+                             ": malformed JSON: " + shortenLastRead(sax.detail));
         }
     }
 }

@@ -19,6 +19,20 @@ namespace shadowlab {
 
 namespace {
 
+// nlohmann quotes the text it read before the error ("last read: '<text>'"), which can be a whole
+// base64 buffer: keep only its end, where the error is.
+std::string shortenLastRead(std::string detail) {
+    const std::string marker = "last read: '";
+    const size_t start = detail.find(marker);
+    if (start == std::string::npos) return detail;
+    const size_t from = start + marker.size();
+    size_t end = detail.find("'; expected", from);
+    if (end == std::string::npos) end = detail.rfind('\'');
+    const size_t keep = 40;
+    if (end != std::string::npos && end > from + keep + 3) detail.replace(from, end - keep - from, "...");
+    return detail;
+}
+
 // Images are irrelevant to shadows: accept and ignore them instead of decoding textures.
 bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                  const unsigned char*, int, void*) {
@@ -304,6 +318,8 @@ Mesh loadGltfMesh(const std::string& path) {
         if (err.rfind("[json.exception.", 0) == 0 && err.find("] ") != std::string::npos) {
             err = err.substr(err.find("] ") + 2);
         }
+        err = shortenLastRead(err);
+        if (err.size() > 500) err = err.substr(0, 497) + "...";
         throw InputError(path + ": cannot read glTF: " + (err.empty() ? "unknown error" : err));
     }
     return GltfReader(path, model).all();
