@@ -11,7 +11,7 @@ fi
 out="${SHADOWLAB_DEMO_OUT:-$root/demo-output}"
 mkdir -p "$out"
 for t in hard pcf reference; do
-  "$bin" render --scene square-occluder --technique "$t" --size 512x512 \
+  "$bin" render --scene square-occluder --technique "$t" --size 512x512 --set "$( [ "$t" = reference ] && echo samples=256 || echo sm_size=1024 )" \
     --out "$out/square-occluder-$t.png" --visibility "$out/square-occluder-$t.pfm" \
     --stats "$out/square-occluder-$t-stats.json"
 done

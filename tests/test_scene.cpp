@@ -68,7 +68,8 @@ std::string expectLoadError(const std::string& name, const std::string& content,
                             const std::vector<std::string>& parts) {
     const std::string path = writeFile(name, content);
     const std::string message = errorOf([&] { loadScene(path); });
-    EXPECT_NE(message.find(path), std::string::npos) << "message does not name the file: " << message;
+    EXPECT_NE(message.find(path), std::string::npos)
+        << "message does not name the file: " << message;
     for (const std::string& part : parts) {
         EXPECT_NE(message.find(part), std::string::npos)
             << "message lacks \"" << part << "\": " << message;
@@ -105,7 +106,8 @@ void expectWellFormed(const Mesh& mesh, const std::string& what) {
     }
     size_t disagreeing = 0;
     for (size_t t = 0; t < mesh.indices.size(); t += 3) {
-        const glm::vec3 a = mesh.positions[mesh.indices[t]], b = mesh.positions[mesh.indices[t + 1]],
+        const glm::vec3 a = mesh.positions[mesh.indices[t]],
+                        b = mesh.positions[mesh.indices[t + 1]],
                         c = mesh.positions[mesh.indices[t + 2]];
         const glm::vec3 n = glm::cross(b - a, c - a);
         if (glm::length(n) < 1e-12f) continue;
@@ -119,7 +121,8 @@ void expectWellFormed(const Mesh& mesh, const std::string& what) {
 // Every edge of a closed mesh (vertices welded by position) belongs to exactly two triangles.
 bool isClosed(const Mesh& mesh) {
     const auto key = [](const glm::vec3& p) {
-        return std::make_tuple(std::lround(p.x * 1e5f), std::lround(p.y * 1e5f), std::lround(p.z * 1e5f));
+        return std::make_tuple(std::lround(p.x * 1e5f), std::lround(p.y * 1e5f),
+                               std::lround(p.z * 1e5f));
     };
     using Key = decltype(key(glm::vec3()));
     std::map<std::pair<Key, Key>, int> edges;
@@ -260,7 +263,8 @@ TEST(SquareOccluder, CameraSeesTheWholeRegionUnobstructed) {
     const Bounds occluder = worldBounds(objectNamed(scene, "occluder"));
     for (float aspect : {1.0f, 4.0f / 3.0f, 16.0f / 9.0f}) {
         SCOPED_TRACE(aspect);
-        const glm::mat4 clipFromWorld = scene.camera.clipFromView(aspect) * scene.camera.viewFromWorld();
+        const glm::mat4 clipFromWorld =
+            scene.camera.clipFromView(aspect) * scene.camera.viewFromWorld();
         glm::vec2 lo(1e9f), hi(-1e9f);
         for (float x : {-2.0f, 2.0f}) {
             for (float z : {-2.0f, 2.0f}) {
@@ -283,11 +287,13 @@ TEST(SquareOccluder, CameraSeesTheWholeRegionUnobstructed) {
     int hidden = 0, total = 0;
     for (int i = 0; i <= 40; ++i) {
         for (int j = 0; j <= 40; ++j) {
-            const glm::vec3 p(-2.0f + 0.1f * static_cast<float>(i), 0.0f, -2.0f + 0.1f * static_cast<float>(j));
+            const glm::vec3 p(-2.0f + 0.1f * static_cast<float>(i), 0.0f,
+                              -2.0f + 0.1f * static_cast<float>(j));
             const glm::vec3 o = scene.camera.position, d = p - o;
             float t0 = 0.0f, t1 = 1.0f;
             for (int k = 0; k < 3; ++k) {
-                const float ta = (occluder.lo[k] - o[k]) / d[k], tb = (occluder.hi[k] - o[k]) / d[k];
+                const float ta = (occluder.lo[k] - o[k]) / d[k],
+                            tb = (occluder.hi[k] - o[k]) / d[k];
                 t0 = std::max(t0, std::min(ta, tb));
                 t1 = std::min(t1, std::max(ta, tb));
             }
@@ -298,7 +304,8 @@ TEST(SquareOccluder, CameraSeesTheWholeRegionUnobstructed) {
     EXPECT_LT(static_cast<double>(hidden) / total, 0.02);
 }
 
-// --- primitives -----------------------------------------------------------------------------------
+// --- primitives
+// -----------------------------------------------------------------------------------
 
 TEST(Primitives, BoxIsClosedWithTwelveTriangles) {
     const Mesh box = makeBox(glm::vec3(1.0f, 2.0f, 3.0f));
@@ -352,11 +359,13 @@ TEST(Primitives, SmoothNormalsAndMirroredAppend) {
     expectWellFormed(box, "box with smooth normals");
     // A mirroring transform flips the winding so faces still point outwards.
     Mesh mirrored;
-    appendMesh(mirrored, makeSphere(1.0f, 12), glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f)));
+    appendMesh(mirrored, makeSphere(1.0f, 12),
+               glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f)));
     expectWellFormed(mirrored, "mirrored sphere");
 }
 
-// --- generators -----------------------------------------------------------------------------------
+// --- generators
+// -----------------------------------------------------------------------------------
 
 bool sameMesh(const Mesh& a, const Mesh& b) {
     return a.positions == b.positions && a.normals == b.normals && a.indices == b.indices;
@@ -365,7 +374,8 @@ bool sameMesh(const Mesh& a, const Mesh& b) {
 TEST(Generators, PlantIsDeterministicAndSeeded) {
     PlantParams params;
     params.leaves = 120;
-    const Mesh a = generatePlant(42, params), b = generatePlant(42, params), c = generatePlant(43, params);
+    const Mesh a = generatePlant(42, params), b = generatePlant(42, params),
+               c = generatePlant(43, params);
     expectWellFormed(a, "plant");
     EXPECT_TRUE(sameMesh(a, b));
     EXPECT_FALSE(sameMesh(a, c));
@@ -380,7 +390,8 @@ TEST(Generators, PlantIsDeterministicAndSeeded) {
 TEST(Generators, ComplexIsDeterministicAndStaysInItsRegion) {
     ComplexParams params;
     params.count = 50;
-    const Mesh a = generateComplex(5, params), b = generateComplex(5, params), c = generateComplex(6, params);
+    const Mesh a = generateComplex(5, params), b = generateComplex(5, params),
+               c = generateComplex(6, params);
     expectWellFormed(a, "complex");
     EXPECT_TRUE(sameMesh(a, b));
     EXPECT_FALSE(sameMesh(a, c));
@@ -405,9 +416,12 @@ TEST(Generators, ParamsFromSceneFile) {
     EXPECT_EQ(objectNamed(scene, "d").mesh.triangleCount(), 200u * 12u);  // defaults
 }
 
-// --- motion and transforms ------------------------------------------------------------------------
+// --- motion and transforms
+// ------------------------------------------------------------------------
 
-glm::vec3 apply(const glm::mat4& m, const glm::vec3& p) { return glm::vec3(m * glm::vec4(p, 1.0f)); }
+glm::vec3 apply(const glm::mat4& m, const glm::vec3& p) {
+    return glm::vec3(m * glm::vec4(p, 1.0f));
+}
 
 void expectNear(const glm::vec3& a, const glm::vec3& b, float eps = 1e-5f) {
     EXPECT_NEAR(a.x, b.x, eps);
@@ -428,14 +442,16 @@ TEST(Motion, RotateAboutAPivot) {
     expectNear(apply(o.worldFromObjectAt(1.0), glm::vec3(2, 0, 0)), glm::vec3(1, 1, -1));
     expectNear(apply(o.worldFromObjectAt(2.0), glm::vec3(2, 0, 0)), glm::vec3(0, 1, 0));
     // A full turn later, back where it started (and no precision loss at large t).
-    expectNear(apply(o.worldFromObjectAt(4.0 * 1000.0 + 1.0), glm::vec3(2, 0, 0)), glm::vec3(1, 1, -1), 1e-4f);
+    expectNear(apply(o.worldFromObjectAt(4.0 * 1000.0 + 1.0), glm::vec3(2, 0, 0)),
+               glm::vec3(1, 1, -1), 1e-4f);
 }
 
 TEST(Motion, KeyframesArePiecewiseLinearAndLoop) {
     Object o;
     o.worldFromObject = glm::scale(glm::mat4(1.0f), glm::vec3(2.0f));
     o.motion.type = Motion::Type::Keyframes;
-    o.motion.keys = {{0.0f, glm::vec3(0, 0, 0)}, {1.0f, glm::vec3(2, 0, 0)}, {2.0f, glm::vec3(2, 4, 0)}};
+    o.motion.keys = {
+        {0.0f, glm::vec3(0, 0, 0)}, {1.0f, glm::vec3(2, 0, 0)}, {2.0f, glm::vec3(2, 4, 0)}};
     const glm::vec3 p(1, 0, 0);  // (2, 0, 0) after the scale
     expectNear(apply(o.worldFromObjectAt(0.0), p), glm::vec3(2, 0, 0));
     expectNear(apply(o.worldFromObjectAt(0.5), p), glm::vec3(3, 0, 0));
@@ -470,8 +486,11 @@ TEST(Motion, FromSceneFileAndTransformOrder) {
 }
 
 TEST(Lights, UpIsMadeOrthogonalAndPointLightsHaveNoSize) {
-    const Scene scene = loadScene(writeFile("lights.json", sceneWith(R"({"type": "box", "size": [1, 1, 1]})",
-        R"({"type": "disk", "position": [0, 3, 0], "direction": [0, -2, 0], "up": [0, 1, -1], "radius": 0.3},
+    const Scene scene = loadScene(writeFile(
+        "lights.json",
+        sceneWith(
+            R"({"type": "box", "size": [1, 1, 1]})",
+            R"({"type": "disk", "position": [0, 3, 0], "direction": [0, -2, 0], "up": [0, 1, -1], "radius": 0.3},
            {"type": "point", "position": [1, 3, 0], "direction": [0, 0, -1]},
            {"name": "s", "type": "square", "position": [0, 3, 0], "direction": [1, -1, 0], "width": 0,
             "color": [1, 0.5, 0.25], "intensity": 2, "casts_shadows": false, "technique": "pcss"})")));
@@ -495,14 +514,16 @@ TEST(Lights, UpIsMadeOrthogonalAndPointLightsHaveNoSize) {
     EXPECT_STREQ(lightShapeName(LightShape::Sphere), "sphere");
 }
 
-// --- glTF -----------------------------------------------------------------------------------------
+// --- glTF
+// -----------------------------------------------------------------------------------------
 
 std::string base64(const std::string& bytes) {
     static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
     size_t i = 0;
     for (; i + 2 < bytes.size(); i += 3) {
-        const uint32_t v = (uint8_t(bytes[i]) << 16) | (uint8_t(bytes[i + 1]) << 8) | uint8_t(bytes[i + 2]);
+        const uint32_t v =
+            (uint8_t(bytes[i]) << 16) | (uint8_t(bytes[i + 1]) << 8) | uint8_t(bytes[i + 2]);
         for (int s = 18; s >= 0; s -= 6) out += table[(v >> s) & 63];
     }
     if (i + 1 == bytes.size()) {
@@ -533,12 +554,14 @@ std::string triangleGltfJson(int mode, const std::string& uri = "") {
     const std::string positions = bytesOf(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 0, -1});
     const std::string indices = bytesOf(std::vector<uint8_t>{0, 1, 2, 0});
     const std::string blob = positions + indices;
-    const std::string bufferUri = uri.empty() ? "data:application/octet-stream;base64," + base64(blob) : uri;
+    const std::string bufferUri =
+        uri.empty() ? "data:application/octet-stream;base64," + base64(blob) : uri;
     return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
       "nodes": [{"mesh": 0, "translation": [0, 1, 0]}],
       "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": )" +
            std::to_string(mode) + R"(}]}],
-      "buffers": [{"byteLength": )" + std::to_string(blob.size()) + R"(, "uri": ")" + bufferUri + R"("}],
+      "buffers": [{"byteLength": )" +
+           std::to_string(blob.size()) + R"(, "uri": ")" + bufferUri + R"("}],
       "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
                       {"buffer": 0, "byteOffset": 36, "byteLength": 3}],
       "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
@@ -564,11 +587,13 @@ TEST(Gltf, GltfAndGlbWithoutNormals) {
     const std::string positions = bytesOf(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 0, -1});
     const std::string binChunk = positions + bytesOf(std::vector<uint8_t>{0, 1, 2, 0});
     std::string jsonChunk = triangleGltfJson(4);
-    jsonChunk = jsonChunk.replace(jsonChunk.find(R"(, "uri": ")"),
-                                  jsonChunk.find(R"("}],)") + 1 - jsonChunk.find(R"(, "uri": ")"), "");
+    jsonChunk =
+        jsonChunk.replace(jsonChunk.find(R"(, "uri": ")"),
+                          jsonChunk.find(R"("}],)") + 1 - jsonChunk.find(R"(, "uri": ")"), "");
     while (jsonChunk.size() % 4) jsonChunk += ' ';
     const auto u32 = [](uint32_t v) { return bytesOf(std::vector<uint32_t>{v}); };
-    const std::string glb = "glTF" + u32(2) + u32(uint32_t(12 + 8 + jsonChunk.size() + 8 + binChunk.size())) +
+    const std::string glb = "glTF" + u32(2) +
+                            u32(uint32_t(12 + 8 + jsonChunk.size() + 8 + binChunk.size())) +
                             u32(uint32_t(jsonChunk.size())) + "JSON" + jsonChunk +
                             u32(uint32_t(binChunk.size())) + std::string("BIN\0", 4) + binChunk;
     const Mesh fromGlb = loadGltfMesh(writeFile("triangle.glb", glb));
@@ -599,12 +624,15 @@ TEST(BadInput, MissingFile) {
               std::string::npos) << message;
     EXPECT_NE(message.find("square-occluder"), std::string::npos) << message;
     const std::string path = (scratchDir() / "absent.json").string();
-    EXPECT_NE(errorOf([&] { loadScene(path); }).find(path + ": no such scene file"), std::string::npos);
+    EXPECT_NE(errorOf([&] { loadScene(path); }).find(path + ": no such scene file"),
+              std::string::npos);
 }
 
 TEST(BadInput, MalformedJsonGivesLineAndColumn) {
     // The second comma on line 3 is at column 36.
-    const std::string text = "{\n  \"name\": \"x\",\n  \"camera\": {\"position\": [0, 1, 2],, \"target\": [0, 0, 0]}\n}\n";
+    const std::string text =
+        "{\n  \"name\": \"x\",\n  \"camera\": {\"position\": [0, 1, 2],, \"target\": [0, 0, "
+        "0]}\n}\n";
     ASSERT_EQ(text.find(",,") + 1 - text.find("  \"camera\""), 35u);
     const std::string path = writeFile("malformed.json", text);
     const std::string message = errorOf([&] { loadScene(path); });
@@ -623,7 +651,8 @@ TEST(BadInput, LiteralNaN) {
 }
 
 TEST(BadInput, InfiniteNumber) {
-    expectLoadError("inf.json", sceneWith(R"({"type": "box", "size": [1, 1, 1], "albedo": [0.5, 1e999, 0.5]})"),
+    expectLoadError("inf.json",
+                    sceneWith(R"({"type": "box", "size": [1, 1, 1], "albedo": [0.5, 1e999, 0.5]})"),
                     {"objects[0].albedo[1]: expected a finite number, got 1e999"});
     expectLoadError("neginf.json", sceneWith(R"({"type": "box", "size": [1, -1e999, 1]})"),
                     {"objects[0].size[1]: expected a finite number, got -1e999"});
@@ -632,32 +661,38 @@ TEST(BadInput, InfiniteNumber) {
 TEST(BadInput, UnknownFieldAtTopLevel) {
     std::string text = sceneWith(R"({"type": "box", "size": [1, 1, 1]})");
     text.insert(1, "\"colour\": [1, 0, 0],");
-    expectLoadError("unknown-top.json", text,
-                    {": colour: expected one of the fields name, description, camera, ambient, lights, objects",
-                     "unknown field \"colour\""});
+    expectLoadError(
+        "unknown-top.json", text,
+        {": colour: expected one of the fields name, description, camera, ambient, lights, objects",
+         "unknown field \"colour\""});
 }
 
 TEST(BadInput, UnknownFieldInsideAnObject) {
-    expectLoadError("unknown-object.json",
-                    sceneWith(R"({"type": "box", "size": [1, 1, 1]}, {"type": "sphere", "radius": 1, "colour": [1, 0, 0]})"),
-                    {"objects[1].colour: expected one of the fields", "albedo", "segments",
-                     "unknown field \"colour\""});
+    expectLoadError(
+        "unknown-object.json",
+        sceneWith(
+            R"({"type": "box", "size": [1, 1, 1]}, {"type": "sphere", "radius": 1, "colour": [1, 0, 0]})"),
+        {"objects[1].colour: expected one of the fields", "albedo", "segments",
+         "unknown field \"colour\""});
     // Fields of another type are unknown too, and so are fields inside nested objects.
     expectLoadError("unknown-width.json",
                     sceneWith(R"({"type": "box", "size": [1, 1, 1]})",
                               R"({"type": "disk", "position": [0, 3, 0], "width": 1})"),
                     {"lights[0].width: expected one of the fields", "radius"});
-    expectLoadError("unknown-nested.json",
-                    sceneWith(R"({"type": "box", "size": [1, 1, 1], "transform": {"rotate": [0, 1, 0]}})"),
-                    {"objects[0].transform.rotate: expected one of the fields translate, rotate_deg, scale"});
-    expectLoadError("unknown-param.json",
-                    sceneWith(R"({"type": "generator", "generator": "plant", "params": {"count": 5}})"),
-                    {"objects[0].params.count: expected one of the fields leaves, height, spread"});
+    expectLoadError(
+        "unknown-nested.json",
+        sceneWith(R"({"type": "box", "size": [1, 1, 1], "transform": {"rotate": [0, 1, 0]}})"),
+        {"objects[0].transform.rotate: expected one of the fields translate, rotate_deg, scale"});
+    expectLoadError(
+        "unknown-param.json",
+        sceneWith(R"({"type": "generator", "generator": "plant", "params": {"count": 5}})"),
+        {"objects[0].params.count: expected one of the fields leaves, height, spread"});
 }
 
 TEST(BadInput, UnknownObjectAndLightType) {
     expectLoadError("teapot.json", sceneWith(R"({"type": "teapot"})"),
-                    {"objects[0].type: expected one of \"plane\", \"quad\", \"box\"", "got the string \"teapot\""});
+                    {"objects[0].type: expected one of \"plane\", \"quad\", \"box\"",
+                     "got the string \"teapot\""});
     expectLoadError("area.json", sceneWith(R"({"type": "box", "size": [1, 1, 1]})",
                                            R"({"type": "area", "position": [0, 3, 0]})"),
                     {"lights[0].type: expected one of \"square\", \"point\"", "\"area\""});
@@ -673,31 +708,41 @@ TEST(BadInput, NegativeWidth) {
 }
 
 TEST(BadInput, AlbedoOutOfRange) {
-    expectLoadError("albedo.json", sceneWith(R"({"type": "box", "size": [1, 1, 1], "albedo": [0.5, 0.5, 1.5]})"),
+    expectLoadError("albedo.json",
+                    sceneWith(R"({"type": "box", "size": [1, 1, 1], "albedo": [0.5, 0.5, 1.5]})"),
                     {"objects[0].albedo[2]: expected a number in [0, 1], got 1.5"});
-    expectLoadError("albedo-short.json", sceneWith(R"({"type": "box", "size": [1, 1, 1], "albedo": [0.5, 0.5]})"),
-                    {"objects[0].albedo: expected an array of 3 numbers", "got an array of 2 elements"});
+    expectLoadError(
+        "albedo-short.json",
+        sceneWith(R"({"type": "box", "size": [1, 1, 1], "albedo": [0.5, 0.5]})"),
+        {"objects[0].albedo: expected an array of 3 numbers", "got an array of 2 elements"});
 }
 
 TEST(BadInput, DuplicateId) {
-    expectLoadError("duplicate-id.json",
-                    sceneWith(R"({"type": "box", "size": [1, 1, 1], "id": 7}, {"type": "box", "size": [1, 1, 1], "id": 7})"),
-                    {"objects[1].id: expected an id no other object uses, got 7", "objects[0]"});
+    expectLoadError(
+        "duplicate-id.json",
+        sceneWith(
+            R"({"type": "box", "size": [1, 1, 1], "id": 7}, {"type": "box", "size": [1, 1, 1], "id": 7})"),
+        {"objects[1].id: expected an id no other object uses, got 7", "objects[0]"});
     // A default id (the index) can collide with an explicit one.
-    expectLoadError("duplicate-default-id.json",
-                    sceneWith(R"({"type": "box", "size": [1, 1, 1], "id": 1}, {"type": "box", "size": [1, 1, 1]})"),
-                    {"objects[1].id: expected an id no other object uses, got 1 (the default"});
+    expectLoadError(
+        "duplicate-default-id.json",
+        sceneWith(
+            R"({"type": "box", "size": [1, 1, 1], "id": 1}, {"type": "box", "size": [1, 1, 1]})"),
+        {"objects[1].id: expected an id no other object uses, got 1 (the default"});
 }
 
 TEST(BadInput, GltfThatFailsToParse) {
     const std::string gltf = writeFile("garbage.gltf", "this is not { a glTF file");
     const std::string message = expectLoadError(
-        "garbage-gltf.json", sceneWith(R"({"type": "gltf", "file": "garbage.gltf"})"), {"objects[0].file: "});
-    EXPECT_NE(message.find(gltf), std::string::npos) << "message does not name the glTF: " << message;
+        "garbage-gltf.json", sceneWith(R"({"type": "gltf", "file": "garbage.gltf"})"),
+        {"objects[0].file: "});
+    EXPECT_NE(message.find(gltf), std::string::npos)
+        << "message does not name the glTF: " << message;
 }
 
 TEST(BadInput, GltfWithMissingReferencedFile) {
-    const std::string gltf = writeFile("missing-buffer.gltf", triangleGltfJson(4, "missing-buffer.bin"));
+    const std::string gltf =
+        writeFile("missing-buffer.gltf", triangleGltfJson(4, "missing-buffer.bin"));
     const std::string message = expectLoadError(
         "missing-buffer.json", sceneWith(R"({"type": "gltf", "file": "missing-buffer.gltf"})"),
         {"objects[0].file: ", "missing-buffer.bin"});
@@ -715,52 +760,86 @@ TEST(BadInput, OtherRangesAndTypes) {
     const std::string box = R"({"type": "box", "size": [1, 1, 1]})";
     expectLoadError("segments.json", sceneWith(R"({"type": "sphere", "radius": 1, "segments": 2})"),
                     {"objects[0].segments: expected an integer in [3, 1024], got 2"});
-    expectLoadError("segments-frac.json", sceneWith(R"({"type": "sphere", "radius": 1, "segments": 3.5})"),
+    expectLoadError("segments-frac.json",
+                    sceneWith(R"({"type": "sphere", "radius": 1, "segments": 3.5})"),
                     {"objects[0].segments: expected an integer in [3, 1024], got 3.5"});
-    expectLoadError("scale.json", sceneWith(R"({"type": "box", "size": [1, 1, 1], "transform": {"scale": [1, 0, 1]}})"),
-                    {"objects[0].transform.scale[1]: expected a non-zero number, got 0"});
+    expectLoadError(
+        "scale.json",
+        sceneWith(R"({"type": "box", "size": [1, 1, 1], "transform": {"scale": [1, 0, 1]}})"),
+        {"objects[0].transform.scale[1]: expected a non-zero number, got 0"});
     expectLoadError("size.json", sceneWith(R"({"type": "box", "size": [1, 0, 1]})"),
                     {"objects[0].size[1]: expected a number > 0, got 0"});
     expectLoadError("size-type.json", sceneWith(R"({"type": "quad", "size": "big"})"),
                     {"objects[0].size: expected an array of 2 numbers", "got the string \"big\""});
-    expectLoadError("direction.json", sceneWith(box, R"({"type": "square", "position": [0, 3, 0], "direction": [0, 0, 0], "width": 1})"),
-                    {"lights[0].direction: expected a non-zero vector"});
-    expectLoadError("up.json", sceneWith(box, R"({"type": "square", "position": [0, 3, 0], "up": [0, 2, 0], "width": 1})"),
-                    {"lights[0].up: expected a vector not parallel to direction"});
-    expectLoadError("missing-width.json", sceneWith(box, R"({"type": "square", "position": [0, 3, 0]})"),
+    expectLoadError(
+        "direction.json",
+        sceneWith(
+            box,
+            R"({"type": "square", "position": [0, 3, 0], "direction": [0, 0, 0], "width": 1})"),
+        {"lights[0].direction: expected a non-zero vector"});
+    expectLoadError(
+        "up.json",
+        sceneWith(box, R"({"type": "square", "position": [0, 3, 0], "up": [0, 2, 0], "width": 1})"),
+        {"lights[0].up: expected a vector not parallel to direction"});
+    expectLoadError("missing-width.json",
+                    sceneWith(box, R"({"type": "square", "position": [0, 3, 0]})"),
                     {"lights[0].width: expected a number >= 0", "nothing (the field is required)"});
-    expectLoadError("bool.json", sceneWith(R"({"type": "box", "size": [1, 1, 1], "casts_shadows": 1})"),
+    expectLoadError("bool.json",
+                    sceneWith(R"({"type": "box", "size": [1, 1, 1], "casts_shadows": 1})"),
                     {"objects[0].casts_shadows: expected true or false, got 1"});
-    expectLoadError("negative-id.json", sceneWith(R"({"type": "box", "size": [1, 1, 1], "id": -1})"),
+    expectLoadError("negative-id.json",
+                    sceneWith(R"({"type": "box", "size": [1, 1, 1], "id": -1})"),
                     {"objects[0].id: expected an integer in [0, "});
-    expectLoadError("keys.json", sceneWith(R"({"type": "box", "size": [1, 1, 1], "motion": {"type": "keyframes",
+    expectLoadError("keys.json",
+                    sceneWith(R"({"type": "box", "size": [1, 1, 1], "motion": {"type": "keyframes",
         "keys": [{"time": 1, "translate": [0, 0, 0]}, {"time": 1, "translate": [1, 0, 0]}]}})"),
-                    {"objects[0].motion.keys[1].time: expected a time greater than the previous key's (1), got 1"});
-    expectLoadError("leaves.json", sceneWith(R"({"type": "generator", "generator": "plant", "params": {"leaves": 0}})"),
-                    {"objects[0].params.leaves: expected an integer in [1, 20000], got 0"});
-    expectLoadError("generator.json", sceneWith(R"({"type": "generator", "generator": "forest"})"),
-                    {"objects[0].generator: expected \"plant\" or \"complex\", got the string \"forest\""});
+                    {"objects[0].motion.keys[1].time: expected a time greater than the previous "
+                     "key's (1), got 1"});
+    expectLoadError(
+        "leaves.json",
+        sceneWith(R"({"type": "generator", "generator": "plant", "params": {"leaves": 0}})"),
+        {"objects[0].params.leaves: expected an integer in [1, 20000], got 0"});
+    expectLoadError(
+        "float-range.json",
+        sceneWith(
+            R"({"type": "box", "size": [1, 1, 1], "transform": {"translate": [1e300, 0, 0]}})"),
+        {"objects[0].transform.translate[0]: expected a number representable as a float",
+         "got 1e+300"});
+    expectLoadError(
+        "huge-transform.json",
+        sceneWith(R"({"type": "box", "size": [1e30, 1, 1], "transform": {"scale": 1e30}})"),
+        {"objects[0].transform: expected a transform that keeps the object finite and invertible"});
+    expectLoadError(
+        "generator.json", sceneWith(R"({"type": "generator", "generator": "forest"})"),
+        {"objects[0].generator: expected \"plant\" or \"complex\", got the string \"forest\""});
 
     // Camera: fov in (0, 180), 0 < near < far.
     std::string text = sceneWith(box);
     text.replace(text.find("\"target\": [0, 0, 0]"), 19, R"("target": [0, 0, 0], "fov_deg": 180)");
     expectLoadError("fov.json", text, {"camera.fov_deg: expected a number in (0, 180), got 180"});
     text = sceneWith(box);
-    text.replace(text.find("\"target\": [0, 0, 0]"), 19, R"("target": [0, 0, 0], "near": 10, "far": 5)");
-    expectLoadError("near-far.json", text, {"camera.far: expected a number greater than near (10), got 5"});
+    text.replace(text.find("\"target\": [0, 0, 0]"), 19,
+                 R"("target": [0, 0, 0], "near": 10, "far": 5)");
+    expectLoadError("near-far.json", text,
+                    {"camera.far: expected a number greater than near (10), got 5"});
     text = sceneWith(box);
     text.replace(text.find("\"target\": [0, 0, 0]"), 19, "\"up\": [0, 1, 0]");
-    expectLoadError("no-target.json", text, {"camera.target: expected an array of 3 numbers, got nothing"});
+    expectLoadError("no-target.json", text,
+                    {"camera.target: expected an array of 3 numbers, got nothing"});
 
     text = sceneWith(box);
     text.insert(1, "\"ambient\": 2,");
     expectLoadError("ambient.json", text, {": ambient: expected a number in [0, 1], got 2"});
-    expectLoadError("top-array.json", "[1, 2]", {"(top level): expected an object, got an array of 2 elements"});
-    expectLoadError("no-lights.json", R"({"camera": {"position": [0, 5, 5], "target": [0, 0, 0]}, "lights": [], "objects": []})",
-                    {"lights: expected an array of at least one light, got an array of 0 elements"});
+    expectLoadError("top-array.json", "[1, 2]",
+                    {"(top level): expected an object, got an array of 2 elements"});
+    expectLoadError(
+        "no-lights.json",
+        R"({"camera": {"position": [0, 5, 5], "target": [0, 0, 0]}, "lights": [], "objects": []})",
+        {"lights: expected an array of at least one light, got an array of 0 elements"});
     expectLoadError("duplicate-key.json", "{\"ambient\": 0.1, \"ambient\": 0.2}",
                     {"ambient: expected each field at most once"});
-    expectLoadError("deep.json", std::string(200, '[') + std::string(200, ']'), {"levels of nesting"});
+    expectLoadError("deep.json", std::string(200, '[') + std::string(200, ']'),
+                    {"levels of nesting"});
 }
 
 TEST(BadInput, EmptySceneIsAllowed) {
@@ -770,7 +849,8 @@ TEST(BadInput, EmptySceneIsAllowed) {
     EXPECT_EQ(scene.name, "empty");
 }
 
-// --- export ---------------------------------------------------------------------------------------
+// --- export
+// ---------------------------------------------------------------------------------------
 
 TEST(Export, WriteTrianglesOBJ) {
     const Scene scene = loadScene("square-occluder");
@@ -799,12 +879,14 @@ TEST(Export, WriteTrianglesOBJ) {
     EXPECT_EQ(groups, 2u);
     EXPECT_EQ(maxIndex, vertices);
 
-    const std::string message = errorOf([&] { writeTrianglesOBJ(scene, 0.0, "/nonexistent-dir/x.obj"); });
+    const std::string message =
+        errorOf([&] { writeTrianglesOBJ(scene, 0.0, "/nonexistent-dir/x.obj"); });
     EXPECT_NE(message.find("/nonexistent-dir/x.obj"), std::string::npos);
 }
 
 TEST(Paths, ResolveScenePath) {
-    EXPECT_EQ(resolveScenePath("square-occluder"), projectRoot() + "/assets/scenes/square-occluder.json");
+    EXPECT_EQ(resolveScenePath("square-occluder"),
+              projectRoot() + "/assets/scenes/square-occluder.json");
     const std::string path = writeFile("by-path.json", sceneWith(""));
     EXPECT_EQ(resolveScenePath(path), path);
 }

@@ -239,7 +239,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
             if (!ids.insert(l->requested->id).second) continue;
             for (const ParamDesc& p : l->requested->params) known += (known.empty() ? "" : ", ") + p.key;
         }
-        message += " (the technique" + std::string(ids.size() > 1 ? "s" : "") + " in use accept: " +
+        message += std::string(ids.size() > 1 ? " (the techniques in use accept: " : " (the technique in use accepts: ") +
                    (known.empty() ? std::string("no parameters") : known) + ")";
         if (lights_.empty()) message = "--set " + key + ": the scene has no light, so no technique takes parameters";
         throw InputError(message);

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -26,7 +27,8 @@ namespace shadowlab {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-// --- Scene math -----------------------------------------------------------------------------------
+// --- Scene math
+// -----------------------------------------------------------------------------------
 
 glm::mat4 Object::worldFromObjectAt(double t) const {
     switch (motion.type) {
@@ -34,7 +36,8 @@ glm::mat4 Object::worldFromObjectAt(double t) const {
             return worldFromObject;
         case Motion::Type::Rotate: {
             // Reduce the angle in double so that long runs keep float precision.
-            const double degrees = std::fmod(static_cast<double>(motion.degreesPerSecond) * t, 360.0);
+            const double degrees =
+                std::fmod(static_cast<double>(motion.degreesPerSecond) * t, 360.0);
             const float angle = glm::radians(static_cast<float>(degrees));
             const glm::mat4 pivotFromObject = glm::translate(glm::mat4(1.0f), -motion.pivot);
             const glm::mat4 rotated = glm::rotate(glm::mat4(1.0f), angle, motion.axis);
@@ -101,7 +104,8 @@ Bounds Scene::bounds(double t, bool castersOnly) const {
     return b;
 }
 
-// --- Finding scene files ----------------------------------------------------------------------------
+// --- Finding scene files
+// ----------------------------------------------------------------------------
 
 std::string projectRoot() {
     if (const char* root = std::getenv("SHADOWLAB_ROOT"); root != nullptr && root[0] != '\0') {
@@ -136,7 +140,8 @@ std::string join(const std::vector<std::string>& parts, const std::string& separ
 }
 
 bool endsWith(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+    return s.size() >= suffix.size() &&
+           s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 }  // namespace
@@ -155,7 +160,8 @@ std::string resolveScenePath(const std::string& nameOrPath) {
     return path;
 }
 
-// --- Parsing: JSON text to a DOM, with field paths for the errors nlohmann reports --------------------
+// --- Parsing: JSON text to a DOM, with field paths for the errors nlohmann reports
+// --------------------
 
 namespace {
 
@@ -196,7 +202,8 @@ std::string shortenLastRead(std::string detail) {
     size_t end = detail.find("'; expected", from);
     if (end == std::string::npos) end = detail.rfind('\'');
     const size_t keep = 40;
-    if (end != std::string::npos && end > from + keep + 3) detail.replace(from, end - keep - from, "...");
+    if (end != std::string::npos && end > from + keep + 3)
+        detail.replace(from, end - keep - from, "...");
     return detail;
 }
 
@@ -217,7 +224,9 @@ public:
     bool null() override { return value() && dom_.null(); }
     bool boolean(bool v) override { return value() && dom_.boolean(v); }
     bool number_integer(number_integer_t v) override { return value() && dom_.number_integer(v); }
-    bool number_unsigned(number_unsigned_t v) override { return value() && dom_.number_unsigned(v); }
+    bool number_unsigned(number_unsigned_t v) override {
+        return value() && dom_.number_unsigned(v);
+    }
     bool number_float(number_float_t v, const string_t& s) override {
         return value() && dom_.number_float(v, s);
     }
@@ -327,8 +336,8 @@ json parseJson(const std::string& file, const std::string& text) {
     if (ok) return result;
     switch (sax.failure) {
         case TrackingSax::Failure::NonFinite:
-            throw InputError(file + ": " + placeName(sax.path) + ": expected a finite number, got " +
-                             sax.detail);
+            throw InputError(file + ": " + placeName(sax.path) +
+                             ": expected a finite number, got " + sax.detail);
         case TrackingSax::Failure::Duplicate:
             throw InputError(file + ": " + placeName(sax.path) +
                              ": expected each field at most once, got it a second time");
@@ -354,7 +363,8 @@ json parseJson(const std::string& file, const std::string& text) {
     }
 }
 
-// --- Validation: reading the DOM into a Scene ---------------------------------------------------------
+// --- Validation: reading the DOM into a Scene
+// ---------------------------------------------------------
 
 std::string sub(const std::string& path, const std::string& key) {
     return path.empty() ? key : path + "." + key;
@@ -370,7 +380,8 @@ public:
 
     [[noreturn]] void fail(const std::string& path, const std::string& expected,
                            const std::string& got) const {
-        throw InputError(file_ + ": " + placeName(path) + ": expected " + expected + ", got " + got);
+        throw InputError(file_ + ": " + placeName(path) + ": expected " + expected + ", got " +
+                         got);
     }
 
     void requireObject(const json& v, const std::string& path) const {
@@ -383,6 +394,12 @@ public:
         if (!v.is_number()) fail(path, expected, describe(v));
         const double x = v.get<double>();
         if (!std::isfinite(x)) fail(path, "a finite number", formatNumber(x));
+        // Scenes are stored in floats: a number that overflows or flushes to zero there is wrong.
+        const float f = static_cast<float>(x);
+        if (!std::isfinite(f) || (x != 0.0 && std::abs(f) < std::numeric_limits<float>::min())) {
+            fail(path, "a number representable as a float (1.2e-38 <= |x| <= 3.4e38, or 0)",
+                 formatNumber(x));
+        }
         if (!valid(x)) fail(path, expected, formatNumber(x));
         return x;
     }
@@ -403,7 +420,8 @@ public:
         }
         // 32.0 is an integer too; 32.5 is not.
         const double x = number(v, path, expected, [&](double d) {
-            return d == std::floor(d) && d >= static_cast<double>(lo) && d <= static_cast<double>(hi);
+            return d == std::floor(d) && d >= static_cast<double>(lo) &&
+                   d <= static_cast<double>(hi);
         });
         return static_cast<int64_t>(x);
     }
@@ -416,7 +434,8 @@ public:
         }
         glm::vec3 out;
         for (size_t i = 0; i < 3; ++i) {
-            out[static_cast<int>(i)] = static_cast<float>(number(v[i], at(path, i), expectedEach, valid));
+            out[static_cast<int>(i)] =
+                static_cast<float>(number(v[i], at(path, i), expectedEach, valid));
         }
         return out;
     }
@@ -520,10 +539,12 @@ Camera readCamera(const Reader& r, const json& v, const std::string& path) {
                      [](double x) { return x > 0.0 && x < 180.0; }));
     }
     if (const json* near = f.find("near")) {
-        camera.nearPlane = static_cast<float>(r.number(*near, f.path("near"), "a number > 0", kPositive));
+        camera.nearPlane =
+            static_cast<float>(r.number(*near, f.path("near"), "a number > 0", kPositive));
     }
     if (const json* far = f.find("far")) {
-        camera.farPlane = static_cast<float>(r.number(*far, f.path("far"), "a number > 0", kPositive));
+        camera.farPlane =
+            static_cast<float>(r.number(*far, f.path("far"), "a number > 0", kPositive));
     }
     if (!(camera.farPlane > camera.nearPlane)) {
         r.fail(f.path("far"), "a number greater than near (" + formatNumber(camera.nearPlane) + ")",
@@ -586,11 +607,14 @@ Light readLight(const Reader& r, const json& v, const std::string& path, size_t 
     } else {
         light.size = 0.0f;
     }
-    if (const json* c = f.find("color")) light.color = r.vec3(*c, f.path("color"), "a number >= 0", kNonNegative);
+    if (const json* c = f.find("color"))
+        light.color = r.vec3(*c, f.path("color"), "a number >= 0", kNonNegative);
     if (const json* i = f.find("intensity")) {
-        light.intensity = static_cast<float>(r.number(*i, f.path("intensity"), "a number >= 0", kNonNegative));
+        light.intensity =
+            static_cast<float>(r.number(*i, f.path("intensity"), "a number >= 0", kNonNegative));
     }
-    if (const json* c = f.find("casts_shadows")) light.castsShadows = r.boolean(*c, f.path("casts_shadows"));
+    if (const json* c = f.find("casts_shadows"))
+        light.castsShadows = r.boolean(*c, f.path("casts_shadows"));
     if (const json* t = f.find("technique")) {
         light.technique = r.string(*t, f.path("technique"), "a technique id (a string)");
     }
@@ -625,7 +649,8 @@ Motion readMotion(const Reader& r, const json& v, const std::string& path) {
     if (type == "rotate") {
         const Fields f(r, v, path, {"type", "axis", "pivot", "degrees_per_second"});
         motion.type = Motion::Type::Rotate;
-        if (const json* a = f.find("axis")) motion.axis = glm::normalize(r.nonZeroVec3(*a, f.path("axis")));
+        if (const json* a = f.find("axis"))
+            motion.axis = glm::normalize(r.nonZeroVec3(*a, f.path("axis")));
         if (const json* p = f.find("pivot")) motion.pivot = r.vec3(*p, f.path("pivot"));
         motion.degreesPerSecond = static_cast<float>(
             r.number(f.require("degrees_per_second", "a number"), f.path("degrees_per_second")));
@@ -635,26 +660,31 @@ Motion readMotion(const Reader& r, const json& v, const std::string& path) {
     motion.type = Motion::Type::Keyframes;
     const json& keys = f.require("keys", "an array of keys {\"time\", \"translate\"}");
     if (!keys.is_array() || keys.empty()) {
-        r.fail(f.path("keys"), "a non-empty array of keys {\"time\", \"translate\"}", describe(keys));
+        r.fail(f.path("keys"), "a non-empty array of keys {\"time\", \"translate\"}",
+               describe(keys));
     }
     for (size_t i = 0; i < keys.size(); ++i) {
         const Fields k(r, keys[i], at(f.path("keys"), i), {"time", "translate"});
         Motion::Key key{};
-        key.time = static_cast<float>(r.number(k.require("time", "a number >= 0 (seconds)"),
-                                               k.path("time"), "a number >= 0 (seconds)", kNonNegative));
+        key.time =
+            static_cast<float>(r.number(k.require("time", "a number >= 0 (seconds)"),
+                                        k.path("time"), "a number >= 0 (seconds)", kNonNegative));
         if (i > 0 && !(key.time > motion.keys.back().time)) {
             r.fail(k.path("time"),
-                   "a time greater than the previous key's (" + formatNumber(motion.keys.back().time) + ")",
+                   "a time greater than the previous key's (" +
+                       formatNumber(motion.keys.back().time) + ")",
                    formatNumber(key.time));
         }
-        key.translate = r.vec3(k.require("translate", "an array of 3 numbers"), k.path("translate"));
+        key.translate =
+            r.vec3(k.require("translate", "an array of 3 numbers"), k.path("translate"));
         motion.keys.push_back(key);
     }
     return motion;
 }
 
 int segmentsField(const Reader& r, const Fields& f) {
-    if (const json* s = f.find("segments")) return static_cast<int>(r.integer(*s, f.path("segments"), 3, 1024));
+    if (const json* s = f.find("segments"))
+        return static_cast<int>(r.integer(*s, f.path("segments"), 3, 1024));
     return 32;
 }
 
@@ -671,7 +701,8 @@ Mesh readGenerator(const Reader& r, const Fields& f) {
         if (s->is_number_unsigned()) {
             seed = s->get<uint64_t>();
         } else {
-            seed = static_cast<uint64_t>(r.integer(*s, f.path("seed"), -(int64_t(1) << 53), int64_t(1) << 53));
+            seed = static_cast<uint64_t>(
+                r.integer(*s, f.path("seed"), -(int64_t(1) << 53), int64_t(1) << 53));
         }
     }
     const json empty = json::object();
@@ -680,28 +711,34 @@ Mesh readGenerator(const Reader& r, const Fields& f) {
     if (generator == "plant") {
         const Fields p(r, params ? *params : empty, paramsPath, {"leaves", "height", "spread"});
         PlantParams plant;
-        if (const json* x = p.find("leaves")) plant.leaves = static_cast<int>(r.integer(*x, p.path("leaves"), 1, 20000));
+        if (const json* x = p.find("leaves"))
+            plant.leaves = static_cast<int>(r.integer(*x, p.path("leaves"), 1, 20000));
         if (const json* x = p.find("height")) {
-            plant.height = static_cast<float>(r.number(*x, p.path("height"), "a number in (0, 1000]",
-                                                       [](double h) { return h > 0.0 && h <= 1000.0; }));
+            plant.height =
+                static_cast<float>(r.number(*x, p.path("height"), "a number in [0.001, 1000]",
+                                            [](double h) { return h >= 1e-3 && h <= 1000.0; }));
         }
         if (const json* x = p.find("spread")) {
-            plant.spread = static_cast<float>(r.number(*x, p.path("spread"), "a number in (0, 1000]",
-                                                       [](double h) { return h > 0.0 && h <= 1000.0; }));
+            plant.spread =
+                static_cast<float>(r.number(*x, p.path("spread"), "a number in [0.001, 1000]",
+                                            [](double h) { return h >= 1e-3 && h <= 1000.0; }));
         }
         return generatePlant(seed, plant);
     }
     if (generator == "complex") {
         const Fields p(r, params ? *params : empty, paramsPath, {"count", "extent", "height"});
         ComplexParams complex;
-        if (const json* x = p.find("count")) complex.count = static_cast<int>(r.integer(*x, p.path("count"), 1, 100000));
+        if (const json* x = p.find("count"))
+            complex.count = static_cast<int>(r.integer(*x, p.path("count"), 1, 100000));
         if (const json* x = p.find("extent")) {
-            complex.extent = static_cast<float>(r.number(*x, p.path("extent"), "a number in (0, 1e4]",
-                                                         [](double e) { return e > 0.0 && e <= 1e4; }));
+            complex.extent =
+                static_cast<float>(r.number(*x, p.path("extent"), "a number in [0.001, 10000]",
+                                            [](double e) { return e >= 1e-3 && e <= 1e4; }));
         }
         if (const json* x = p.find("height")) {
-            complex.height = static_cast<float>(r.number(*x, p.path("height"), "a number in (0, 1e4]",
-                                                         [](double e) { return e > 0.0 && e <= 1e4; }));
+            complex.height =
+                static_cast<float>(r.number(*x, p.path("height"), "a number in [0.001, 10000]",
+                                            [](double e) { return e >= 1e-3 && e <= 1e4; }));
         }
         return generateComplex(seed, complex);
     }
@@ -729,22 +766,27 @@ Object readObject(const Reader& r, const json& v, const std::string& path, size_
 
     Object object;
     object.name = type + std::to_string(index);
-    if (const json* name = f.find("name")) object.name = r.string(*name, f.path("name"), "a string");
+    if (const json* name = f.find("name"))
+        object.name = r.string(*name, f.path("name"), "a string");
     object.id = static_cast<int>(index);
-    if (const json* id = f.find("id")) object.id = static_cast<int>(r.integer(*id, f.path("id"), 0, (1 << 24) - 1));
+    if (const json* id = f.find("id"))
+        object.id = static_cast<int>(r.integer(*id, f.path("id"), 0, (1 << 24) - 1));
     object.source = type;
 
     if (type == "plane") {
         float size = 1000.0f;
-        if (const json* s = f.find("size")) size = static_cast<float>(r.number(*s, f.path("size"), "a number > 0", kPositive));
+        if (const json* s = f.find("size"))
+            size = static_cast<float>(r.number(*s, f.path("size"), "a number > 0", kPositive));
         object.mesh = makeQuad(size, size);
     } else if (type == "quad") {
         const json& s = f.require("size", "an array of 2 numbers > 0 ([size x, size z])");
         if (!s.is_array() || s.size() != 2) {
             r.fail(f.path("size"), "an array of 2 numbers > 0 ([size x, size z])", describe(s));
         }
-        const float sx = static_cast<float>(r.number(s[0], at(f.path("size"), 0), "a number > 0", kPositive));
-        const float sz = static_cast<float>(r.number(s[1], at(f.path("size"), 1), "a number > 0", kPositive));
+        const float sx =
+            static_cast<float>(r.number(s[0], at(f.path("size"), 0), "a number > 0", kPositive));
+        const float sz =
+            static_cast<float>(r.number(s[1], at(f.path("size"), 1), "a number > 0", kPositive));
         object.mesh = makeQuad(sx, sz);
     } else if (type == "box") {
         object.mesh = makeBox(r.vec3(f.require("size", "an array of 3 numbers > 0"), f.path("size"),
@@ -773,10 +815,26 @@ Object readObject(const Reader& r, const json& v, const std::string& path, size_
         object.source = "generator:" + f.find("generator")->get<std::string>();
     }
 
-    if (const json* t = f.find("transform")) object.worldFromObject = readTransform(r, *t, f.path("transform"));
-    if (const json* a = f.find("albedo")) object.albedo = r.vec3(*a, f.path("albedo"), "a number in [0, 1]", kUnit);
-    if (const json* c = f.find("casts_shadows")) object.castsShadows = r.boolean(*c, f.path("casts_shadows"));
-    if (const json* c = f.find("receives_shadows")) object.receivesShadows = r.boolean(*c, f.path("receives_shadows"));
+    if (const json* t = f.find("transform")) {
+        object.worldFromObject = readTransform(r, *t, f.path("transform"));
+        // Extreme but individually valid numbers can still combine into an unusable transform.
+        const float det = glm::determinant(glm::mat3(object.worldFromObject));
+        bool finite = std::isfinite(det) && std::abs(det) > 1e-30f;
+        for (const glm::vec3& p : object.mesh.positions) {
+            const glm::vec4 w = object.worldFromObject * glm::vec4(p, 1.0f);
+            finite = finite && std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z);
+        }
+        if (!finite) {
+            r.fail(f.path("transform"), "a transform that keeps the object finite and invertible",
+                   "one that does not (determinant " + formatNumber(det) + ")");
+        }
+    }
+    if (const json* a = f.find("albedo"))
+        object.albedo = r.vec3(*a, f.path("albedo"), "a number in [0, 1]", kUnit);
+    if (const json* c = f.find("casts_shadows"))
+        object.castsShadows = r.boolean(*c, f.path("casts_shadows"));
+    if (const json* c = f.find("receives_shadows"))
+        object.receivesShadows = r.boolean(*c, f.path("receives_shadows"));
     if (const json* m = f.find("motion")) object.motion = readMotion(r, *m, f.path("motion"));
     return object;
 }
@@ -790,15 +848,18 @@ Scene readScene(const Reader& r, const json& root, const std::string& path) {
         scene.name = r.string(*n, "name", "a non-empty string");
         if (scene.name.empty()) r.fail("name", "a non-empty string", "an empty string");
     }
-    if (const json* d = f.find("description")) scene.description = r.string(*d, "description", "a string");
+    if (const json* d = f.find("description"))
+        scene.description = r.string(*d, "description", "a string");
     scene.camera = readCamera(r, f.require("camera", "an object"), "camera");
     if (const json* a = f.find("ambient")) {
         scene.ambient = static_cast<float>(r.number(*a, "ambient", "a number in [0, 1]", kUnit));
     }
 
     const json& lights = f.require("lights", "an array of at least one light");
-    if (!lights.is_array() || lights.empty()) r.fail("lights", "an array of at least one light", describe(lights));
-    for (size_t i = 0; i < lights.size(); ++i) scene.lights.push_back(readLight(r, lights[i], at("lights", i), i));
+    if (!lights.is_array() || lights.empty())
+        r.fail("lights", "an array of at least one light", describe(lights));
+    for (size_t i = 0; i < lights.size(); ++i)
+        scene.lights.push_back(readLight(r, lights[i], at("lights", i), i));
 
     // An empty scene (no objects) is allowed: it is one of the hard cases.
     const json& objects = f.require("objects", "an array of objects");
@@ -811,7 +872,8 @@ Scene readScene(const Reader& r, const json& root, const std::string& path) {
         if (!inserted) {
             const bool explicitId = objects[i].contains("id");
             r.fail(sub(at("objects", i), "id"), "an id no other object uses",
-                   std::to_string(object.id) + (explicitId ? "" : " (the default: the object's index)") +
+                   std::to_string(object.id) +
+                       (explicitId ? "" : " (the default: the object's index)") +
                        ", which objects[" + std::to_string(it->second) + "] already has");
         }
         scene.objects.push_back(std::move(object));
@@ -831,7 +893,8 @@ Scene loadScene(const std::string& nameOrPath) {
     return readScene(Reader(path), root, path);
 }
 
-// --- Export -------------------------------------------------------------------------------------------
+// --- Export
+// -------------------------------------------------------------------------------------------
 
 void writeTrianglesOBJ(const Scene& scene, double t, const std::string& path) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -842,7 +905,8 @@ void writeTrianglesOBJ(const Scene& scene, double t, const std::string& path) {
     size_t base = 1;  // OBJ indices are 1-based and global over the file
     for (const Object& object : scene.objects) {
         std::string name = object.name;
-        std::replace_if(name.begin(), name.end(), [](unsigned char c) { return std::isspace(c); }, '_');
+        std::replace_if(
+            name.begin(), name.end(), [](unsigned char c) { return std::isspace(c); }, '_');
         out << "o " << (name.empty() ? "object" : name) << "\n";
         const glm::mat4 worldFromObject = object.worldFromObjectAt(t);
         for (const glm::vec3& p : object.mesh.positions) {

@@ -131,14 +131,14 @@ void computeSmoothNormals(Mesh& mesh);
 // Procedural generators: the same seed gives the same mesh on every platform (own PRNG).
 struct PlantParams {
     int leaves = 300;      // 1..20000
-    float height = 1.5f;   // world units, > 0
-    float spread = 0.8f;   // radius of the foliage, world units, > 0
+    float height = 1.5f;   // world units, 0.001..1000
+    float spread = 0.8f;   // radius of the foliage, world units, 0.001..1000
 };
 Mesh generatePlant(uint64_t seed, const PlantParams& params);
 struct ComplexParams {
     int count = 200;       // number of boxes, 1..100000
-    float extent = 3.0f;   // boxes lie in [-extent, extent]^2 in xz, > 0
-    float height = 2.0f;   // and in [0, height] in y, > 0
+    float extent = 3.0f;   // boxes lie in [-extent, extent]^2 in xz, 0.001..10000
+    float height = 2.0f;   // and in [0, height] in y, 0.001..10000
 };
 Mesh generateComplex(uint64_t seed, const ComplexParams& params);
 

@@ -29,7 +29,8 @@ std::string shortenLastRead(std::string detail) {
     size_t end = detail.find("'; expected", from);
     if (end == std::string::npos) end = detail.rfind('\'');
     const size_t keep = 40;
-    if (end != std::string::npos && end > from + keep + 3) detail.replace(from, end - keep - from, "...");
+    if (end != std::string::npos && end > from + keep + 3)
+        detail.replace(from, end - keep - from, "...");
     return detail;
 }
 
@@ -41,7 +42,8 @@ bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, i
 
 class GltfReader {
 public:
-    GltfReader(const std::string& path, const tinygltf::Model& model) : path_(path), model_(model) {}
+    GltfReader(const std::string& path, const tinygltf::Model& model)
+        : path_(path), model_(model) {}
 
     [[noreturn]] void fail(const std::string& message) const {
         throw InputError(path_ + ": " + message);
@@ -68,16 +70,19 @@ public:
         }
         const tinygltf::BufferView& bufferView =
             model_.bufferViews[static_cast<size_t>(accessor.bufferView)];
-        if (bufferView.buffer < 0 || static_cast<size_t>(bufferView.buffer) >= model_.buffers.size()) {
+        if (bufferView.buffer < 0 ||
+            static_cast<size_t>(bufferView.buffer) >= model_.buffers.size()) {
             fail(name + ": bufferView " + std::to_string(accessor.bufferView) +
                  " has no valid buffer");
         }
         const tinygltf::Buffer& buffer = model_.buffers[static_cast<size_t>(bufferView.buffer)];
         const int componentSize =
             tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(accessor.componentType));
-        const int components = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type));
+        const int components =
+            tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type));
         if (componentSize <= 0 || components <= 0) fail(name + ": unknown component type or type");
-        const size_t elementSize = static_cast<size_t>(componentSize) * static_cast<size_t>(components);
+        const size_t elementSize =
+            static_cast<size_t>(componentSize) * static_cast<size_t>(components);
         const size_t stride = bufferView.byteStride != 0 ? bufferView.byteStride : elementSize;
         if (stride < elementSize) fail(name + ": byteStride is smaller than one element");
         if (bufferView.byteOffset > buffer.data.size() ||
@@ -123,7 +128,8 @@ public:
         return out;
     }
 
-    std::vector<uint32_t> readIndices(int index, size_t vertexCount, const std::string& what) const {
+    std::vector<uint32_t> readIndices(int index, size_t vertexCount,
+                                      const std::string& what) const {
         const View v = view(index, what);
         if (v.components != 1) fail(what + ": expected SCALAR indices");
         std::vector<uint32_t> out(v.count);
@@ -131,17 +137,48 @@ public:
             const unsigned char* p = v.data + i * v.stride;
             int64_t value = 0;
             switch (v.componentType) {
-                case TINYGLTF_COMPONENT_TYPE_BYTE: { int8_t x; std::memcpy(&x, p, 1); value = x; break; }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: { uint8_t x; std::memcpy(&x, p, 1); value = x; break; }
-                case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t x; std::memcpy(&x, p, 2); value = x; break; }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t x; std::memcpy(&x, p, 2); value = x; break; }
-                case TINYGLTF_COMPONENT_TYPE_INT: { int32_t x; std::memcpy(&x, p, 4); value = x; break; }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t x; std::memcpy(&x, p, 4); value = x; break; }
+                case TINYGLTF_COMPONENT_TYPE_BYTE: {
+                    int8_t x;
+                    std::memcpy(&x, p, 1);
+                    value = x;
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+                    uint8_t x;
+                    std::memcpy(&x, p, 1);
+                    value = x;
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                    int16_t x;
+                    std::memcpy(&x, p, 2);
+                    value = x;
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                    uint16_t x;
+                    std::memcpy(&x, p, 2);
+                    value = x;
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_INT: {
+                    int32_t x;
+                    std::memcpy(&x, p, 4);
+                    value = x;
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+                    uint32_t x;
+                    std::memcpy(&x, p, 4);
+                    value = x;
+                    break;
+                }
                 default: fail(what + ": indices must be integers");
             }
             if (value < 0 || static_cast<uint64_t>(value) >= vertexCount) {
-                fail(what + ": index " + std::to_string(value) + " at position " + std::to_string(i) +
-                     " is out of range (" + std::to_string(vertexCount) + " vertices)");
+                fail(what + ": index " + std::to_string(value) + " at position " +
+                     std::to_string(i) + " is out of range (" + std::to_string(vertexCount) +
+                     " vertices)");
             }
             out[i] = static_cast<uint32_t>(value);
         }
@@ -163,7 +200,8 @@ public:
             mesh.indices = readIndices(primitive.indices, mesh.positions.size(), what + ".indices");
         } else {
             mesh.indices.resize(mesh.positions.size());
-            for (size_t i = 0; i < mesh.indices.size(); ++i) mesh.indices[i] = static_cast<uint32_t>(i);
+            for (size_t i = 0; i < mesh.indices.size(); ++i)
+                mesh.indices[i] = static_cast<uint32_t>(i);
         }
         if (mesh.indices.size() % 3 != 0) {
             fail(what + ": " + std::to_string(mesh.indices.size()) +
@@ -217,7 +255,8 @@ public:
                 s = glm::make_vec3(node.scale.data());
             }
             // glTF: M = T * R * S.
-            m = glm::translate(glm::dmat4(1.0), t) * glm::mat4_cast(r) * glm::scale(glm::dmat4(1.0), s);
+            m = glm::translate(glm::dmat4(1.0), t) * glm::mat4_cast(r) *
+                glm::scale(glm::dmat4(1.0), s);
         }
         for (int c = 0; c < 4; ++c) {
             for (int r = 0; r < 4; ++r) {
@@ -233,7 +272,8 @@ public:
             fail("node " + std::to_string(index) + " does not exist");
         }
         if (onPath[static_cast<size_t>(index)]) {
-            fail("nodes[" + std::to_string(index) + "] is its own ancestor (cycle in the node tree)");
+            fail("nodes[" + std::to_string(index) +
+                 "] is its own ancestor (cycle in the node tree)");
         }
         onPath[static_cast<size_t>(index)] = true;
         const tinygltf::Node& node = model_.nodes[static_cast<size_t>(index)];
@@ -249,8 +289,8 @@ public:
         std::vector<int> roots;
         if (!model_.scenes.empty()) {
             // The default scene, or scene 0 when the file names none.
-            const int scene = model_.defaultScene >= 0 &&
-                                      static_cast<size_t>(model_.defaultScene) < model_.scenes.size()
+            const int scene = model_.defaultScene >= 0 && static_cast<size_t>(model_.defaultScene) <
+                                                              model_.scenes.size()
                                   ? model_.defaultScene
                                   : 0;
             roots = model_.scenes[static_cast<size_t>(scene)].nodes;
@@ -297,7 +337,8 @@ Mesh loadGltfMesh(const std::string& path) {
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (extension != ".gltf" && extension != ".glb") {
-        throw InputError(path + ": expected a .gltf or .glb file, got extension '" + extension + "'");
+        throw InputError(path + ": expected a .gltf or .glb file, got extension '" + extension +
+                         "'");
     }
 
     tinygltf::TinyGLTF loader;

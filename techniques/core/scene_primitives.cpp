@@ -21,9 +21,10 @@ void addTriangle(Mesh& mesh, uint32_t a, uint32_t b, uint32_t c) {
     mesh.indices.insert(mesh.indices.end(), {a, b, c});
 }
 
-// A flat rectangle centred at `centre` spanning centre ± u ± v, facing normalize(cross(u, v)).
-void addRectangle(Mesh& mesh, const glm::vec3& centre, const glm::vec3& u, const glm::vec3& v) {
-    const glm::vec3 normal = glm::normalize(glm::cross(u, v));
+// A flat rectangle centred at `centre` spanning centre ± u ± v; `normal` is the direction of
+// cross(u, v), passed in because normalizing the cross product fails for tiny sizes.
+void addRectangle(Mesh& mesh, const glm::vec3& centre, const glm::vec3& u, const glm::vec3& v,
+                  const glm::vec3& normal) {
     const uint32_t a = addVertex(mesh, centre - u - v, normal);
     const uint32_t b = addVertex(mesh, centre + u - v, normal);
     const uint32_t c = addVertex(mesh, centre + u + v, normal);
@@ -38,7 +39,8 @@ void addDiskFan(Mesh& mesh, float radius, float y0, bool facesUp, int segments) 
     const uint32_t centre = addVertex(mesh, glm::vec3(0.0f, y0, 0.0f), normal);
     const uint32_t first = static_cast<uint32_t>(mesh.positions.size());
     for (int j = 0; j < segments; ++j) {
-        const float phi = glm::two_pi<float>() * static_cast<float>(j) / static_cast<float>(segments);
+        const float phi =
+            glm::two_pi<float>() * static_cast<float>(j) / static_cast<float>(segments);
         addVertex(mesh, glm::vec3(radius * std::cos(phi), y0, radius * std::sin(phi)), normal);
     }
     for (int j = 0; j < segments; ++j) {
@@ -59,7 +61,7 @@ Mesh makeQuad(float sizeX, float sizeZ) {
     Mesh mesh;
     // cross(z, x) = +y.
     addRectangle(mesh, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 0.5f * sizeZ),
-                 glm::vec3(0.5f * sizeX, 0.0f, 0.0f));
+                 glm::vec3(0.5f * sizeX, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
     return mesh;
 }
 
@@ -68,13 +70,14 @@ Mesh makeBox(const glm::vec3& size) {
     const glm::vec3 half = 0.5f * size;
     for (int axis = 0; axis < 3; ++axis) {
         for (float sign : {1.0f, -1.0f}) {
-            // Face at sign * half[axis] along `axis`; cross(e[axis+1], e[axis+2]) = e[axis], and the
-            // sign on the second in-plane axis turns the face outwards.
-            glm::vec3 centre(0.0f), u(0.0f), v(0.0f);
+            // Face at sign * half[axis] along `axis`; cross(e[axis+1], e[axis+2]) = e[axis], and
+            // the sign on the second in-plane axis turns the face outwards.
+            glm::vec3 centre(0.0f), u(0.0f), v(0.0f), normal(0.0f);
             centre[axis] = sign * half[axis];
             u[(axis + 1) % 3] = half[(axis + 1) % 3];
             v[(axis + 2) % 3] = sign * half[(axis + 2) % 3];
-            addRectangle(mesh, centre, u, v);
+            normal[axis] = sign;
+            addRectangle(mesh, centre, u, v, normal);
         }
     }
     return mesh;
