@@ -33,8 +33,11 @@ Result run(const std::string& arguments) {
     return r;
 }
 
+// Each test writes into its own folder: ctest runs tests in parallel, and the bad-input checks
+// look for stray temporaries in the folder of the output.
 std::string tmp(const std::string& name) {
-    fs::path dir = fs::path(SHADOWLAB_TEST_TMP) / "cli";
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    fs::path dir = fs::path(SHADOWLAB_TEST_TMP) / "cli" / (std::string(test->test_suite_name()) + "." + test->name());
     fs::create_directories(dir);
     return (dir / name).string();
 }

@@ -318,3 +318,88 @@ TEST_F(RenderTest, SecondDepthKeepsShadowAndLitFloor) {
 
 }  // namespace
 }  // namespace shadowlab
+
+// ---- hard cases (DESIGN.md section 9) that the core already meets ---------------------------------
+namespace shadowlab {
+namespace {
+
+std::string scaledSquareOccluder(double s) {
+    char buffer[2048];
+    std::snprintf(buffer, sizeof buffer, R"({
+      "camera": {"position": [0, %g, %g], "target": [0, 0, %g], "fov_deg": 40, "near": %g, "far": %g},
+      "lights": [{"type": "square", "position": [0, %g, 0], "direction": [0, -1, 0], "up": [0, 0, -1], "width": %g}],
+      "objects": [
+        {"name": "floor", "id": 0, "type": "quad", "size": [%g, %g], "casts_shadows": false},
+        {"name": "plate", "id": 1, "type": "box", "size": [%g, %g, %g], "transform": {"translate": [0, %g, 0]}}
+      ]})",
+                  5.5 * s, 6.5 * s, 0.3 * s, 0.1 * s, 50 * s, 4 * s, s, 8 * s, 8 * s, s, 0.001 * s, s, 2 * s);
+    return buffer;
+}
+
+class HardCases : public GLTest {};
+
+// Biases are stated in texels of the map at the receiver, so one default holds from scale 1e-3 to
+// 1e4: hard shadows agree with the closed-form square [-s, s]^2 on >= 99% of floor pixels.
+TEST_F(HardCases, SceneScalesKeepHardShadowsExact) {
+    for (double s : {1e-3, 1.0, 1e4}) {
+        Scene scene = loadScene(writeTempScene("scaled", scaledSquareOccluder(s)));
+        Render r = render(scene, "hard", {}, {}, 1, 128);
+        size_t agree = 0, total = 0;
+        for (size_t i = 0; i < r.ids.data.size(); ++i) {
+            if (r.ids.data[i] != 0.0f) continue;
+            double px = r.positions.data[i * 3] / s, pz = r.positions.data[i * 3 + 2] / s;
+            float expected = (std::abs(px) <= 1.0 && std::abs(pz) <= 1.0) ? 0.0f : 1.0f;
+            ++total;
+            agree += r.visibility.data[i] == expected;
+        }
+        EXPECT_GT(total, 5000u) << "scale " << s;
+        EXPECT_GE(double(agree) / double(total), 0.99) << "scale " << s;
+    }
+}
+
+TEST_F(HardCases, ExtremeShadowMapSizesStayInRange) {
+    Scene scene = loadScene("square-occluder");
+    for (const char* size : {"1", "8192"}) {
+        Render r = render(scene, "pcf", {{"sm_size", size}}, {}, 1, 32);
+        for (float v : r.visibility.data) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << "sm_size " << size;
+    }
+}
+
+TEST_F(HardCases, EmptySceneIsFullyLit) {
+    Scene scene = loadScene(writeTempScene(
+        "empty", R"({"camera": {"position": [0, 5, 5], "target": [0, 0, 0]},
+                     "lights": [{"type": "square", "position": [0, 4, 0], "width": 1}], "objects": []})"));
+    for (const char* t : {"hard", "pcf", "reference", "raytraced"}) {
+        Render r = render(scene, t, {}, {}, 1, 16);
+        for (size_t i = 0; i < r.visibility.data.size(); ++i) {
+            ASSERT_EQ(r.visibility.data[i], 1.0f) << t;
+            ASSERT_EQ(r.ids.data[i], -1.0f) << t;
+        }
+    }
+}
+
+// A light inside a closed box: everything outside is in shadow, nothing is NaN.
+TEST_F(HardCases, LightInsideGeometry) {
+    Scene scene = loadScene(writeTempScene(
+        "light-inside", R"({"camera": {"position": [0, 5, 6], "target": [0, 0, 0]},
+                     "lights": [{"type": "square", "position": [0, 1, 0], "width": 0.2}],
+                     "objects": [{"name": "floor", "type": "quad", "size": [8, 8]},
+                                 {"name": "box", "type": "box", "size": [1, 1, 1], "transform": {"translate": [0, 1, 0]}}]})"));
+    for (const char* t : {"hard", "pcf", "raytraced"}) {
+        Render r = render(scene, t, t == std::string("raytraced") ? std::vector<std::pair<std::string, std::string>>{{"rays", "16"}}
+                                                                  : std::vector<std::pair<std::string, std::string>>{},
+                          {}, 1, 32);
+        size_t floor = 0, lit = 0;
+        for (size_t i = 0; i < r.visibility.data.size(); ++i) {
+            ASSERT_FALSE(std::isnan(r.visibility.data[i])) << t;
+            if (r.ids.data[i] != 0.0f) continue;
+            ++floor;
+            lit += r.visibility.data[i] > 0.5f;
+        }
+        EXPECT_GT(floor, 0u);
+        EXPECT_LE(double(lit) / double(floor), 0.02) << t;
+    }
+}
+
+}  // namespace
+}  // namespace shadowlab

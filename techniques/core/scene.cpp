@@ -163,6 +163,21 @@ std::string resolveScenePath(const std::string& nameOrPath) {
 // --- Parsing: JSON text to a DOM, with field paths for the errors nlohmann reports
 // --------------------
 
+// nlohmann quotes the text it read before the error ("last read: '<text>'"), which can be a whole
+// base64 buffer: keep only its end, where the error is.
+std::string shortenLastRead(std::string detail) {
+    const std::string marker = "last read: '";
+    const size_t start = detail.find(marker);
+    if (start == std::string::npos) return detail;
+    const size_t from = start + marker.size();
+    size_t end = detail.find("'; expected", from);
+    if (end == std::string::npos) end = detail.rfind('\'');
+    const size_t keep = 40;
+    if (end != std::string::npos && end > from + keep + 3)
+        detail.replace(from, end - keep - from, "...");
+    return detail;
+}
+
 namespace {
 
 std::string formatNumber(double x) {
@@ -190,21 +205,6 @@ std::string describe(const json& v) {
         case json::value_t::object: return "an object";
         default: return "an unsupported value";
     }
-}
-
-// nlohmann quotes the text it read before the error ("last read: '<text>'"), which can be a whole
-// base64 buffer: keep only its end, where the error is.
-std::string shortenLastRead(std::string detail) {
-    const std::string marker = "last read: '";
-    const size_t start = detail.find(marker);
-    if (start == std::string::npos) return detail;
-    const size_t from = start + marker.size();
-    size_t end = detail.find("'; expected", from);
-    if (end == std::string::npos) end = detail.rfind('\'');
-    const size_t keep = 40;
-    if (end != std::string::npos && end > from + keep + 3)
-        detail.replace(from, end - keep - from, "...");
-    return detail;
 }
 
 // Builds the DOM like nlohmann::json::parse, and also tracks the path of the value being read, so

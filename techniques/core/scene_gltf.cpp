@@ -19,21 +19,6 @@ namespace shadowlab {
 
 namespace {
 
-// nlohmann quotes the text it read before the error ("last read: '<text>'"), which can be a whole
-// base64 buffer: keep only its end, where the error is.
-std::string shortenLastRead(std::string detail) {
-    const std::string marker = "last read: '";
-    const size_t start = detail.find(marker);
-    if (start == std::string::npos) return detail;
-    const size_t from = start + marker.size();
-    size_t end = detail.find("'; expected", from);
-    if (end == std::string::npos) end = detail.rfind('\'');
-    const size_t keep = 40;
-    if (end != std::string::npos && end > from + keep + 3)
-        detail.replace(from, end - keep - from, "...");
-    return detail;
-}
-
 // Images are irrelevant to shadows: accept and ignore them instead of decoding textures.
 bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                  const unsigned char*, int, void*) {

@@ -23,9 +23,11 @@ void ShadowMap::allocate(int size, bool secondDepth) {
 void ShadowMap::render(RenderContext& ctx, const LightView& view, int size, bool secondDepth) {
     allocate(size, secondDepth);
     const float farValue = FLT_MAX;  // no caster: lit
-    const float one = 1.0f;
+    const float zero = 0.0f;
+    // Reversed depth (see fitLightView): depth 1 at the near plane, keep the greatest.
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
+    glDepthFunc(GL_GREATER);
     glDisable(GL_CULL_FACE);  // open meshes and single quads cast from both sides
     glDisable(GL_BLEND);
 
@@ -36,7 +38,7 @@ void ShadowMap::render(RenderContext& ctx, const LightView& view, int size, bool
     program.set("peel", 0);
     firstFbo_.bind(size, size);
     glClearNamedFramebufferfv(firstFbo_.id(), GL_COLOR, 0, &farValue);
-    glClearNamedFramebufferfv(firstFbo_.id(), GL_DEPTH, 0, &one);
+    glClearNamedFramebufferfv(firstFbo_.id(), GL_DEPTH, 0, &zero);
     ctx.gpu.draw(program, ctx.time, true);
 
     if (secondDepth) {
@@ -46,9 +48,11 @@ void ShadowMap::render(RenderContext& ctx, const LightView& view, int size, bool
         program.set("firstDepth", 0);
         secondFbo_.bind(size, size);
         glClearNamedFramebufferfv(secondFbo_.id(), GL_COLOR, 0, &farValue);
-        glClearNamedFramebufferfv(secondFbo_.id(), GL_DEPTH, 0, &one);
+        glClearNamedFramebufferfv(secondFbo_.id(), GL_DEPTH, 0, &zero);
         ctx.gpu.draw(program, ctx.time, true);
     }
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glDepthFunc(GL_LESS);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
