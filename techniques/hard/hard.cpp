@@ -1,4 +1,4 @@
-// `hard`: shadow mapping from the light's centre (Williams 1978; background in cournia2005 ch. 2).
+// `hard`: shadow mapping from the light's centre (Williams 1978; background in cournia2005 sec. 3 (Fig. 3.1)).
 // Pass 1 renders the casters' light-view depth; pass 2 compares each receiver's depth with it.
 #include "hard.h"
 
@@ -91,7 +91,7 @@ const TechniqueDesc& hardTechnique() {
         TechniqueDesc d;
         d.id = "hard";
         d.name = "Hard shadow map";
-        d.citation = "Williams 1978, Casting curved shadows on curved surfaces; background in cournia2005 ch. 2";
+        d.citation = "Williams 1978, Casting curved shadows on curved surfaces; background in cournia2005 sec. 3 (Fig. 3.1)";
         d.summary = "one shadow map from the light's centre and one depth test per pixel: the umbra-only limit "
                     "every soft technique converges to as the light shrinks";
         d.soft = false;

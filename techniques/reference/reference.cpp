@@ -1,7 +1,7 @@
-// `reference`: the papers' ground truth (guennebaud2007 sec. 7, buades2015 sec. 5: the average of
-// 1024 hard shadow maps rendered from points spread over the light). N stratified samples of the
-// light (shaders/shared/light_sampling.glsl), one shadow map each, each pixel's hard visibility
-// weighted by its sample's stratum area and summed with additive float blending.
+// `reference`: the papers' ground truth (guennebaud2007 sec. 7: the average of 1024 hard shadow
+// maps rendered from points spread over the light; buades2015 sec. 5.3 uses 41 x 41 light sources).
+// N stratified samples of the light (shaders/shared/light_sampling.glsl), one shadow map each, each
+// pixel's hard visibility weighted by its sample's stratum area and summed with additive blending.
 #include <chrono>
 #include <cstdio>
 
@@ -99,13 +99,13 @@ const TechniqueDesc& referenceTechnique() {
         TechniqueDesc d;
         d.id = "reference";
         d.name = "Reference: averaged light-sample shadow maps";
-        d.citation = "the papers' ground truth: guennebaud2007 sec. 7 and buades2015 sec. 5 (1024 light samples)";
+        d.citation = "the papers' ground truth: guennebaud2007 sec. 7, Fig. 1 (1024 light samples); buades2015 sec. 5.3, Fig. 13";
         d.summary = "N stratified points on the light, one hard shadow map each, visibility = the weighted mean of "
                     "their depth tests; converges to the visibility integral as N grows";
         d.soft = true;
         d.params = shadowMapParams();
         d.params.push_back({"samples", "N", ParamDesc::Type::Int, "", 1024, 1, 65536, 1,
-                            "N stratified light samples, one shadow map each; 1024 as in guennebaud2007 and buades2015",
+                            "N stratified light samples, one shadow map each; 1024 as in guennebaud2007 sec. 7",
                             ""});
         d.passes = {{"accumulate",
                      {"scene.casters", "light", "gbuffer", "param:samples", "param:sm_size", "param:second_depth",
