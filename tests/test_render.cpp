@@ -213,6 +213,18 @@ TEST_F(RenderTest, LightSizeZeroGivesHardShadows) {
     }
 }
 
+// The shadow-map settings given for the soft technique carry over to the `hard` that replaces it.
+TEST_F(RenderTest, PointLightKeepsShadowMapSettings) {
+    Scene scene = loadScene("square-occluder");
+    Render r = render(scene, "pcf", {{"sm_size", "256"}, {"bias_const", "0.25"}, {"pcf_kernel", "9"}}, 0.0f, 1, 32);
+    const auto& light = r.stats["lights"][0];
+    EXPECT_EQ(light["technique_requested"], "pcf");
+    EXPECT_EQ(light["technique"], "hard");
+    EXPECT_EQ(light["parameters"]["sm_size"], 256);
+    EXPECT_EQ(light["parameters"]["bias_const"], 0.25);
+    EXPECT_FALSE(light["parameters"].contains("pcf_kernel"));
+}
+
 // A tiny light is not a point light: the reference's soft pass runs, and converges to hard shadows
 // (up to bias: the samples' maps differ by under a texel).
 TEST_F(RenderTest, ReferenceConvergesToHardAsLightShrinks) {

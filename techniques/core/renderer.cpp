@@ -229,8 +229,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
         if (state->light.isPoint() && soft) {
             state->desc = &requireTechnique("hard", "internal");
             state->params = ParamValues(*state->desc);
-            for (const auto& [key, value] : requestedParams.values())
-                if (state->desc->findParam(key)) state->params.set(*state->desc, key, std::to_string(value), "internal");
+            state->params.copySharedFrom(requestedParams);
         } else {
             state->desc = state->requested;
             state->params = requestedParams;

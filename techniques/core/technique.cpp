@@ -68,6 +68,13 @@ void ParamValues::set(const TechniqueDesc& desc, const std::string& key, const s
     values_[key] = value;
 }
 
+void ParamValues::copySharedFrom(const ParamValues& from) {
+    for (auto& [key, value] : values_) {
+        auto it = from.values_.find(key);
+        if (it != from.values_.end()) value = it->second;
+    }
+}
+
 const TechniqueDesc& requireTechnique(const std::string& id, const std::string& where) {
     if (const TechniqueDesc* d = findTechnique(id)) return *d;
     std::string ids;

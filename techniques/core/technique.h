@@ -72,6 +72,8 @@ public:
     // `where` names the source for the message ("--set", "lesson.txt:12"). Throws InputError.
     void set(const TechniqueDesc& desc, const std::string& key, const std::string& text, const std::string& where);
     const std::map<std::string, double>& values() const { return values_; }
+    // Copies the values of the keys both techniques declare (already validated by `from`'s table).
+    void copySharedFrom(const ParamValues& from);
 
 private:
     std::map<std::string, double> values_;
