@@ -2,6 +2,8 @@
 // the real triangles (techniques/core/raytracer.h). Independent of any shadow map: the tests use it
 // to validate `reference`. Runs on the CPU; its result is uploaded as the light's visibility.
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 
 #include "raytracer.h"
 #include "renderer.h"
@@ -20,7 +22,18 @@ public:
         for (size_t i = 0; i < positions.pixelCount(); ++i)
             if (positions.data[i * 4 + 3] == 0.0f) positions.data[i * 4] = NAN;  // background
         RayTracer tracer(ctx.scene, ctx.time);
-        Image v = tracer.visibility(positions, normals, light.light, light.params.getInt("rays"));
+        // Progress on stderr once a run takes more than two seconds, as `reference` does.
+        auto start = std::chrono::steady_clock::now();
+        int reported = 0;
+        auto progress = [&](size_t done, size_t total) {
+            double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            int percent = total ? int(done * 100 / total) : 100;
+            if (seconds > 2.0 && percent >= reported + 10) {
+                reported = percent - percent % 10;
+                std::fprintf(stderr, "raytraced: %zu/%zu pixels (%d%%, %.1f s)\n", done, total, percent, seconds);
+            }
+        };
+        Image v = tracer.visibility(positions, normals, light.light, light.params.getInt("rays"), progress);
         // Image row 0 is the top; GL row 0 is the bottom.
         std::vector<float> rows(v.data.size());
         for (int y = 0; y < v.height; ++y)
