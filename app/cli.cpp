@@ -282,7 +282,7 @@ int commandRender(const std::vector<std::string>& args) {
     Options opts("render", args, 1,
                  {"--scene", "--technique", "--set", "--size", "--out", "--visibility", "--positions", "--ids",
                   "--stats", "--frames", "--internals", "--pixel", "--light-size", "--gl"},
-                 {});
+                 {"--no-reuse"});
     if (!opts.positional().empty()) throw InputError("render: unexpected argument '" + opts.positional()[0] + "'");
     if (!opts.has("--scene")) throw InputError("render: --scene is required (a scene name or a .json path)");
     RenderJob job;
@@ -293,6 +293,7 @@ int commandRender(const std::vector<std::string>& args) {
     if (opts.has("--size")) parseSize(opts.get("--size"), job.options.width, job.options.height);
     if (opts.has("--light-size")) job.options.lightSize = opts.getFloat("--light-size", 0.0f, 0.0f, 1e6f);
     job.frames = opts.getInt("--frames", 1, 1, 100000);
+    job.options.reuse = !opts.has("--no-reuse");
     job.out = opts.get("--out");
     job.visibility = opts.get("--visibility");
     job.positions = opts.get("--positions");
@@ -413,7 +414,8 @@ void printUsage() {
         "  shadowlab list [--json]           techniques with parameters, scenes, lessons\n"
         "  shadowlab render --scene S [--technique T] [--set k=v]... [--size WxH] [--out img.png]\n"
         "                   [--visibility v.pfm] [--positions p.pfm] [--ids i.pfm] [--stats s.json]\n"
-        "                   [--frames N] [--internals DIR] [--pixel x,y] [--light-size S] [--gl egl|osmesa]\n"
+        "                   [--frames N] [--no-reuse] [--internals DIR] [--pixel x,y] [--light-size S]\n"
+        "                   [--gl egl|osmesa]\n"
         "  shadowlab reference --scene S [--samples N | --rays M] --out v.pfm [--size WxH] [--light-size S]\n"
         "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png]\n"
         "  shadowlab scene --scene S --dump-triangles out.obj [--time t]");

@@ -108,6 +108,18 @@ TEST(Cli, StatsShowShadowMapRenderedOnceOverThreeFrames) {
     EXPECT_TRUE(found);
 }
 
+TEST(Cli, NoReuseRunsEveryPassEveryFrame) {
+    std::string stats = tmp("no-reuse.json");
+    Result r = run(kRender + "--technique pcf --frames 3 --no-reuse --stats " + stats);
+    ASSERT_EQ(r.code, 0) << r.output;
+    nlohmann::json s = nlohmann::json::parse(readFile(stats));
+    EXPECT_EQ(s["reuse"], false);
+    for (const auto& p : s["passes"]) {
+        EXPECT_EQ(p["runs"], 4) << p.dump();
+        EXPECT_EQ(p["reuses"], 0) << p.dump();
+    }
+}
+
 TEST(Cli, SameCommandTwiceIsBitIdentical) {
     for (const char* t : {"pcf", "reference --set samples=16", "raytraced --set rays=16"}) {
         std::string a = tmp("det-a.pfm"), b = tmp("det-b.pfm");

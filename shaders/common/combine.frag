@@ -15,7 +15,10 @@ void main() {
     }
     vec3 p = worldPosition(pixel);
     float weighted = 0.0, weights = 0.0, plain = 0.0;
-    for (int i = 0; i < lightCount; ++i) {
+    // A constant bound lets the compiler unroll the loop, so each sampler is indexed by a constant
+    // (dynamic sampler-array indexing is slow on llvmpipe).
+    for (int i = 0; i < MAX_LIGHTS; ++i) {
+        if (i >= lightCount) break;
         float v = lightVisibilityAt(i, pixel);
         float e = directWeight(i, p, n.xyz);
         weighted += v * e;

@@ -14,7 +14,8 @@ void main() {
     vec4 n = texelFetch(gNormal, pixel, 0);
     vec3 albedo = texelFetch(gMaterial, pixel, 0).rgb;
     vec3 light = vec3(ambient);
-    for (int i = 0; i < lightCount; ++i) {
+    for (int i = 0; i < MAX_LIGHTS; ++i) {  // constant bound: see combine.frag
+        if (i >= lightCount) break;
         float v = n.w == 0.0 ? 1.0 : lightVisibilityAt(i, pixel);
         vec3 toLight = normalize(lightPositions[i] - p);
         light += v * max(dot(n.xyz, toLight), 0.0) * lightRadiance[i];

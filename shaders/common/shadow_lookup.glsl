@@ -18,24 +18,37 @@ float cosToLight(vec3 worldPos, vec3 normal) {
     return abs(dot(normal, normalize(lightPosition - worldPos)));
 }
 
-// Hard visibility (0 or 1) of a receiver from the shadow map's viewpoint, with texel offset
-// `offset` (PCF). The bias grows with the offset along the receiver's slope, since a tilted
-// receiver's depth changes across the kernel (a receiver-plane bias).
-float shadowTestOffset(vec3 worldPos, vec3 normal, vec2 offset) {
-    vec4 coord = shadowMapCoord(lightViewFromWorld, lightClipFromView, worldPos);
-    if (coord.w == 0.0) return 1.0;  // outside the light's frustum
-    float texelWorld = shadowTexelWorldSize(coord.z, lightTanHalfFov, shadowMapSize);
-    float cosTheta = cosToLight(worldPos, normal);
-    float bias = shadowDepthBias(texelWorld, biasConstTexels, biasSlopeTexels, cosTheta) +
-                 receiverPlaneBias(texelWorld, cosTheta, length(offset));
-    ivec2 texel = ivec2(floor(coord.xy * shadowMapSize + offset));
+// What a receiver's depth tests share: its projection into the map and its bias.
+struct ShadowReceiver {
+    vec4 coord;        // shadowMapCoord: (u, v, z, inside)
+    float texelWorld;  // world size of one texel at the receiver's depth
+    float cosTheta;    // receiver normal vs direction to the light
+    float bias;        // constant + slope bias, world units
+};
+
+ShadowReceiver prepareShadowReceiver(vec3 worldPos, vec3 normal) {
+    ShadowReceiver r;
+    r.coord = shadowMapCoord(lightViewFromWorld, lightClipFromView, worldPos);
+    r.texelWorld = shadowTexelWorldSize(r.coord.z, lightTanHalfFov, shadowMapSize);
+    r.cosTheta = cosToLight(worldPos, normal);
+    r.bias = shadowDepthBias(r.texelWorld, biasConstTexels, biasSlopeTexels, r.cosTheta);
+    return r;
+}
+
+// Hard visibility (0 or 1) of a receiver at texel offset `offset` (PCF). The bias grows with the
+// offset along the receiver's slope, since a tilted receiver's depth changes across the kernel (a
+// receiver-plane bias). Receivers outside the light's frustum are lit.
+float shadowTestOffset(ShadowReceiver r, vec2 offset) {
+    if (r.coord.w == 0.0) return 1.0;
+    float bias = r.bias + receiverPlaneBias(r.texelWorld, r.cosTheta, length(offset));
+    ivec2 texel = ivec2(floor(r.coord.xy * shadowMapSize + offset));
     int last = int(shadowMapSize) - 1;
     texel = clamp(texel, ivec2(0), ivec2(last));
     float stored = texelFetch(shadowMap, texel, 0).r;
-    return shadowDepthTest(coord.z, stored, bias);
+    return shadowDepthTest(r.coord.z, stored, bias);
 }
 
 float shadowTest(vec3 worldPos, vec3 normal) {
-    return shadowTestOffset(worldPos, normal, vec2(0.0));
+    return shadowTestOffset(prepareShadowReceiver(worldPos, normal), vec2(0.0));
 }
 #endif

@@ -17,10 +17,11 @@ void main() {
     vec3 p = worldPosition(pixel);
     vec3 n = worldNormal(pixel);
 #ifdef PCF
+    ShadowReceiver receiver = prepareShadowReceiver(p, n);
     int radius = pcfKernel / 2;
     float lit = 0.0;
     for (int dy = -radius; dy <= radius; ++dy)
-        for (int dx = -radius; dx <= radius; ++dx) lit += shadowTestOffset(p, n, vec2(dx, dy));
+        for (int dx = -radius; dx <= radius; ++dx) lit += shadowTestOffset(receiver, vec2(dx, dy));
     visibility = lit / float(pcfKernel * pcfKernel);
 #else
     visibility = shadowTest(p, n);

@@ -65,6 +65,7 @@ uint64_t PassGraph::version(const std::string& resource) const {
 
 void PassGraph::invalidate() {
     for (Node& n : nodes_) n.hasRun = false;
+    invalidated_ = true;
 }
 
 void PassGraph::execute(const std::set<std::string>& requested, int frame, const Timer& timer) {
@@ -105,7 +106,9 @@ void PassGraph::execute(const std::set<std::string>& requested, int frame, const
             record.history.push_back("reused");
             continue;
         }
-        record.reason = !node.hasRun ? "first frame that needs it" : "an input changed";
+        record.reason = invalidated_ && frame > 0 ? "cached outputs dropped (reuse disabled)"
+                        : !node.hasRun             ? "first frame that needs it"
+                                                   : "an input changed";
         double ms = timer(node.run);
         record.ms.push_back(ms);
         ++record.runs;
@@ -116,6 +119,7 @@ void PassGraph::execute(const std::set<std::string>& requested, int frame, const
         node.lastRunFrame = frame;
         for (const std::string& out : node.outputs) versions_[out] = hashBytes(out.data(), out.size(), key);
     }
+    invalidated_ = false;
     for (PassRecord& record : records_) {
         if (record.history.size() < size_t(frame + 1) && record.runs == 0 && record.reuses == 0 &&
             record.notNeeded == 0 && !record.reason.empty())

@@ -50,7 +50,8 @@ public:
 
     // Runs frame `frame`: the passes needed by `requested` outputs whose input versions changed.
     void execute(const std::set<std::string>& requested, int frame, const Timer& timer);
-    // Forgets every cached output (the next execute() runs everything needed).
+    // Forgets every cached output: the next execute() runs everything needed (--no-reuse, to time
+    // every pass of a static scene in every frame).
     void invalidate();
 
     bool produces(const std::string& resource) const;
@@ -73,6 +74,7 @@ private:
     std::map<std::string, uint64_t> versions_;   // current version of every resource
     std::map<std::string, size_t> producer_;     // resource -> node
     std::set<std::string> sources_;
+    bool invalidated_ = false;
 };
 
 }  // namespace shadowlab

@@ -263,6 +263,8 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
     gbuffer_.fbo = Framebuffer({&gbuffer_.position, &gbuffer_.normal, &gbuffer_.material}, &gbuffer_.depth);
     visibility_ = Texture(w, h, GL_R32F);
     image_ = Texture(w, h, GL_RGBA32F);
+    visibilityFbo_ = Framebuffer({&visibility_}, nullptr);
+    imageFbo_ = Framebuffer({&image_}, nullptr);
     white_ = Texture(1, 1, GL_R32F);
     const float one = 1.0f;
     glTextureSubImage2D(white_.id(), 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &one);
@@ -378,8 +380,7 @@ void Renderer::buildGraph() {
 
     graph_.addPass("visibility", "frame", "", combineInputs, {"visibility"}, [this, bindLights] {
         const ShaderProgram& program = programs_.get("common/fullscreen.vert", "common/combine.frag");
-        Framebuffer fbo({&visibility_}, nullptr);
-        fbo.bind(gbuffer_.width, gbuffer_.height);
+        visibilityFbo_.bind(gbuffer_.width, gbuffer_.height);
         glDisable(GL_DEPTH_TEST);
         glDisable(GL_BLEND);
         program.use();
@@ -389,8 +390,7 @@ void Renderer::buildGraph() {
     });
     graph_.addPass("shade", "frame", "", combineInputs, {"image"}, [this, bindLights] {
         const ShaderProgram& program = programs_.get("common/fullscreen.vert", "common/shade.frag");
-        Framebuffer fbo({&image_}, nullptr);
-        fbo.bind(gbuffer_.width, gbuffer_.height);
+        imageFbo_.bind(gbuffer_.width, gbuffer_.height);
         glDisable(GL_DEPTH_TEST);
         glDisable(GL_BLEND);
         program.use();
@@ -424,6 +424,7 @@ void Renderer::updateSources(int frame) {
 
 void Renderer::renderFrame(int frame, const std::set<std::string>& requested) {
     updateSources(frame);
+    if (!options_.reuse) graph_.invalidate();
     graph_.execute(requested, frame, [this](const std::function<void()>& run) { return timePass(run); });
 }
 
@@ -509,6 +510,7 @@ nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFra
     j["scene"] = scene_.name;
     j["resolution"] = {gbuffer_.width, gbuffer_.height};
     j["clock"] = clockName();
+    j["reuse"] = options_.reuse;
     j["warmup_frames"] = warmupFrames;
     j["frames"] = frameMs.size();
     j["total_ms"] = median(frameMs);

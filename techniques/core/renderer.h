@@ -131,6 +131,7 @@ struct RenderOptions {
     std::vector<std::pair<std::string, std::string>> sets;  // --set key=value, validated
     std::optional<float> lightSize;  // --light-size
     bool cpuClock = true;            // time passes on the CPU around glFinish (llvmpipe)
+    bool reuse = true;               // false: every needed pass runs every frame (for timing)
 };
 
 class Renderer {
@@ -174,6 +175,7 @@ private:
     Texture visibility_;  // combined
     Texture image_;       // shaded, linear RGBA32F
     Texture white_;       // 1x1 visibility 1, for lights that cast no shadow
+    Framebuffer visibilityFbo_, imageFbo_;
     std::vector<std::unique_ptr<LightState>> lights_;
     PassGraph graph_;
     GLuint timerQuery_ = 0;
