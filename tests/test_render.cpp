@@ -327,6 +327,21 @@ TEST_F(RenderTest, NonCastingObjectLeavesNoShadow) {
     EXPECT_EQ(minB, 1.0f);
 }
 
+// Objects that receive no shadows keep visibility 1 (they still cast).
+TEST_F(RenderTest, NonReceivingObjectStaysLit) {
+    std::string json = twoLights(true);
+    json.replace(json.find(R"("type": "quad", "size": [8, 8]})"), 31, R"("type": "quad", "size": [8, 8], "receives_shadows": false})");
+    Scene scene = loadScene(writeTempScene("floor-receives-nothing", json));
+    Render r = render(scene, "pcf", {}, {}, 1, 64);
+    size_t floor = 0;
+    for (size_t i = 0; i < r.visibility.data.size(); ++i) {
+        if (r.ids.data[i] != 0.0f) continue;
+        ++floor;
+        ASSERT_EQ(r.visibility.data[i], 1.0f);
+    }
+    EXPECT_GT(floor, 1000u);
+}
+
 TEST_F(RenderTest, OnlyRequestedOutputsRun) {
     Scene scene = loadScene("square-occluder");
     RenderOptions options;
