@@ -170,6 +170,11 @@ std::vector<ParamDesc> shadowMapParams() {
     };
 }
 
+PassDesc shadowMapPass() {
+    return {"shadow_map", {"scene.casters", "light", "param:sm_size", "param:second_depth"}, {"shadow_map"},
+            "light-view depth of the casters from the light's centre (techniques/core/shadow_map.h)", false};
+}
+
 // ---- renderer -------------------------------------------------------------------------------------------
 namespace {
 constexpr double kSecondsPerFrame = 1.0 / 30.0;
@@ -430,22 +435,18 @@ void Renderer::renderFrame(int frame, const std::set<std::string>& requested) {
 
 Image Renderer::visibility() const { return readTexture(visibility_, 1); }
 
-Image Renderer::positions() const {
-    Image p = readTexture(gbuffer_.position, 4);
-    Image out(p.width, p.height, 3);
-    for (size_t i = 0; i < p.pixelCount(); ++i)
-        for (int c = 0; c < 3; ++c) out.data[i * 3 + c] = p.data[i * 4 + 3] == 0.0f ? NAN : p.data[i * 4 + c];
+// xyz of a G-buffer texture, NaN on background pixels (position.w == 0).
+static Image geometryChannels(const Texture& texture, const Texture& position) {
+    Image t = readTexture(texture, 4);
+    Image p = &texture == &position ? t : readTexture(position, 4);
+    Image out(t.width, t.height, 3);
+    for (size_t i = 0; i < t.pixelCount(); ++i)
+        for (int c = 0; c < 3; ++c) out.data[i * 3 + c] = p.data[i * 4 + 3] == 0.0f ? NAN : t.data[i * 4 + c];
     return out;
 }
 
-Image Renderer::normals() const {
-    Image n = readTexture(gbuffer_.normal, 4);
-    Image p = readTexture(gbuffer_.position, 4);
-    Image out(n.width, n.height, 3);
-    for (size_t i = 0; i < n.pixelCount(); ++i)
-        for (int c = 0; c < 3; ++c) out.data[i * 3 + c] = p.data[i * 4 + 3] == 0.0f ? NAN : n.data[i * 4 + c];
-    return out;
-}
+Image Renderer::positions() const { return geometryChannels(gbuffer_.position, gbuffer_.position); }
+Image Renderer::normals() const { return geometryChannels(gbuffer_.normal, gbuffer_.position); }
 
 Image Renderer::ids() const {
     Image m = readTexture(gbuffer_.material, 4);

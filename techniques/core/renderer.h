@@ -183,5 +183,7 @@ private:
 
 // Shadow-map parameters shared by every shadow-map technique (one table, STYLE.md 3).
 std::vector<ParamDesc> shadowMapParams();
+// The pass that renders the light-centre shadow map, as hard and pcf declare it.
+PassDesc shadowMapPass();
 
 }  // namespace shadowlab

@@ -97,8 +97,7 @@ const TechniqueDesc& hardTechnique() {
         d.soft = false;
         d.params = shadowMapParams();
         d.passes = {
-            {"shadow_map", {"scene.casters", "light", "param:sm_size", "param:second_depth"}, {"shadow_map"},
-             "light-view depth of the casters from the light's centre", false},
+            shadowMapPass(),
             {"visibility", {"shadow_map", "gbuffer", "param:bias_const", "param:bias_slope"}, {"visibility"},
              "depth test of each receiver against the shadow map", false},
         };

@@ -19,8 +19,7 @@ const TechniqueDesc& pcfTechnique() {
                             "blurring contact shadows much",
                             ""});
         d.passes = {
-            {"shadow_map", {"scene.casters", "light", "param:sm_size", "param:second_depth"}, {"shadow_map"},
-             "light-view depth of the casters from the light's centre", false},
+            shadowMapPass(),
             {"filter", {"shadow_map", "gbuffer", "param:bias_const", "param:bias_slope", "param:pcf_kernel"},
              {"visibility"}, "mean of n x n depth tests around the receiver's texel", true},
         };
