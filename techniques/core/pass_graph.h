@@ -30,7 +30,8 @@ struct PassRecord {
     std::string status;       // of the last frame: "ran" or "skipped"
     std::string reason;       // why it ran or was skipped, in the last frame
     std::vector<double> ms;   // time of every run
-    std::vector<std::string> history;  // one entry per frame: "ran", "reused", "not needed", or the static reason
+    std::vector<std::string> history;  // one entry per frame: "ran", "reused", "not needed", or "skipped"
+                                       // (a pass that never runs here; `reason` says why)
 };
 
 class PassGraph {

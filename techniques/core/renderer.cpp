@@ -524,7 +524,7 @@ nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFra
                           {"size", l->light.size},
                           {"casts_shadows", l->light.castsShadows},
                           {"technique_requested", l->requested->id},
-                          {"technique", l->desc->id}};
+                          {"technique", l->light.castsShadows ? l->desc->id : "none (casts no shadows)"}};
         for (const auto& [key, value] : l->params.values()) lj["parameters"][key] = value;
         j["lights"].push_back(lj);
     }
