@@ -199,6 +199,9 @@ TEST(Cli, InternalsAndPixel) {
     EXPECT_TRUE(names.count("pixel"));
     nlohmann::json pixel = nlohmann::json::parse(readFile(dir + "/pixel.json"));
     EXPECT_EQ(pixel["pixel"], nlohmann::json({16, 16}));
+    // The light looks straight down from y = 4: the receiver's light-view depth is 4 - y.
+    ASSERT_TRUE(pixel["position"].is_array()) << pixel.dump();
+    EXPECT_NEAR(pixel["lights"][0]["receiver_depth"].get<double>(), 4.0 - pixel["position"][1].get<double>(), 1e-4);
 }
 
 // ---- bad input: each its own test -------------------------------------------------------------------

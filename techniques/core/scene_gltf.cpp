@@ -120,44 +120,20 @@ public:
         std::vector<uint32_t> out(v.count);
         for (size_t i = 0; i < v.count; ++i) {
             const unsigned char* p = v.data + i * v.stride;
+            // Reads one index stored as T (memcpy: glTF data need not be aligned).
+            auto as = [p](auto zero) {
+                decltype(zero) x;
+                std::memcpy(&x, p, sizeof x);
+                return int64_t(x);
+            };
             int64_t value = 0;
             switch (v.componentType) {
-                case TINYGLTF_COMPONENT_TYPE_BYTE: {
-                    int8_t x;
-                    std::memcpy(&x, p, 1);
-                    value = x;
-                    break;
-                }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-                    uint8_t x;
-                    std::memcpy(&x, p, 1);
-                    value = x;
-                    break;
-                }
-                case TINYGLTF_COMPONENT_TYPE_SHORT: {
-                    int16_t x;
-                    std::memcpy(&x, p, 2);
-                    value = x;
-                    break;
-                }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-                    uint16_t x;
-                    std::memcpy(&x, p, 2);
-                    value = x;
-                    break;
-                }
-                case TINYGLTF_COMPONENT_TYPE_INT: {
-                    int32_t x;
-                    std::memcpy(&x, p, 4);
-                    value = x;
-                    break;
-                }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-                    uint32_t x;
-                    std::memcpy(&x, p, 4);
-                    value = x;
-                    break;
-                }
+                case TINYGLTF_COMPONENT_TYPE_BYTE: value = as(int8_t()); break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = as(uint8_t()); break;
+                case TINYGLTF_COMPONENT_TYPE_SHORT: value = as(int16_t()); break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: value = as(uint16_t()); break;
+                case TINYGLTF_COMPONENT_TYPE_INT: value = as(int32_t()); break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: value = as(uint32_t()); break;
                 default: fail(what + ": indices must be integers");
             }
             if (value < 0 || static_cast<uint64_t>(value) >= vertexCount) {

@@ -61,13 +61,16 @@ void HardShadowTechnique::writeInternals(InternalWriter& out, RenderContext&, Li
 }
 
 nlohmann::json HardShadowTechnique::pixelInfo(glm::ivec2 pixel, RenderContext& ctx, LightState& light) const {
-    Image positions = readTexture(ctx.gbuffer.position, 4);
+    // One texel of the G-buffer (GL rows count from the bottom, --pixel's from the top).
+    glm::vec4 position(0.0f);
+    glGetTextureSubImage(ctx.gbuffer.position.id(), 0, pixel.x, ctx.height - 1 - pixel.y, 0, 1, 1, 1, GL_RGBA, GL_FLOAT,
+                         sizeof position, &position);
     nlohmann::json j;
-    if (positions.at(pixel.x, pixel.y, 3) == 0.0f) {
+    if (position.w == 0.0f) {
         j["background"] = true;
         return j;
     }
-    glm::vec3 p(positions.at(pixel.x, pixel.y, 0), positions.at(pixel.x, pixel.y, 1), positions.at(pixel.x, pixel.y, 2));
+    glm::vec3 p(position);
     glm::vec4 view = light.view.viewFromWorld * glm::vec4(p, 1.0f);
     glm::vec4 clip = light.view.clipFromView * view;
     glm::vec2 uv = glm::vec2(clip) / clip.w * 0.5f + 0.5f;
