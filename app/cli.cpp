@@ -189,6 +189,7 @@ struct RenderJob {
     std::string out, visibility, positions, ids, stats, internals;
     std::optional<glm::ivec2> pixel;
     std::string gl = "egl";
+    bool checkReuse = false;
 };
 
 int runRender(const RenderJob& job, const Options& opts) {
@@ -220,23 +221,55 @@ int runRender(const RenderJob& job, const Options& opts) {
     RenderOptions options = job.options;
     options.cpuClock = context->isSoftwareRasterizer();
     Renderer renderer(scene, options);
+    // A parameter that does not apply in this configuration is said, not silently ignored.
+    for (const LightState* l : renderer.lights())
+        for (const auto& [key, reason] : l->params.inapplicable(*l->desc))
+            for (const auto& [setKey, value] : options.sets)
+                if (setKey == key)
+                    std::fprintf(stderr, "shadowlab: warning: --set %s=%s has no effect on %s (L%d): %s\n", key.c_str(),
+                                 value.c_str(), l->desc->id.c_str(), l->index, reason.c_str());
 
     std::set<std::string> requested;
     if (!job.out.empty()) requested.insert("image");
-    if (!job.visibility.empty() || !job.internals.empty() || job.pixel) requested.insert("visibility");
+    if (!job.visibility.empty() || job.pixel) requested.insert("visibility");
     if (!job.positions.empty() || !job.ids.empty()) requested.insert("gbuffer");
+    if (!job.internals.empty() || job.pixel) {
+        std::set<std::string> internals = renderer.internalRequests(job.pixel.has_value());
+        requested.insert(internals.begin(), internals.end());
+    }
     if (requested.empty()) requested = {"image", "visibility"};
 
     // Frame 0 warms up (programs compile, buffers allocate); frames 1..N are timed.
     std::vector<double> frameMs;
-    int total = job.frames > 1 || !job.stats.empty() ? job.frames + 1 : 1;
-    for (int f = 0; f < total; ++f) {
+    int total = job.frames > 1 || !job.stats.empty() || job.checkReuse ? job.frames + 1 : 1;
+    auto timedFrame = [&](int f) {
         glFinish();
         auto t0 = std::chrono::steady_clock::now();
         renderer.renderFrame(f, requested);
         glFinish();
-        double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    };
+    for (int f = 0; f < total; ++f) {
+        double ms = timedFrame(f);
         if (f > 0 || total == 1) frameMs.push_back(ms);
+        if (job.checkReuse && f > 0) {
+            // Every pass the graph reused must give the same outputs when it runs again.
+            std::vector<std::string> differ = renderer.checkReuse();
+            if (!differ.empty()) {
+                std::string list;
+                for (const std::string& d : differ) list += " " + d;
+                throw InternalError("--check-reuse: frame " + std::to_string(f) +
+                                    ": re-running the needed passes changed:" + list +
+                                    " (a pass reads something it does not declare)");
+            }
+        }
+    }
+    // cost_ms needs a timed run of every needed pass: on a static scene with reuse, passes ran only in
+    // the warm-up frame (with compilation), so time them again (without counting runs or reuses).
+    int costFrom = total > 1 ? 1 : 0;
+    if (!job.stats.empty() && !renderer.costMeasuredSince(costFrom)) {
+        costFrom = total;
+        renderer.measureCost(total, std::max(1, std::min(job.frames, 3)));
     }
 
     OutputSet outputs;
@@ -250,8 +283,9 @@ int runRender(const RenderJob& job, const Options& opts) {
         renderer.writeInternals(writer, job.pixel);
     }
     if (!job.stats.empty()) {
-        nlohmann::json stats = renderer.stats(frameMs, total > 1 ? 1 : 0);
+        nlohmann::json stats = renderer.stats(frameMs, total > 1 ? 1 : 0, costFrom);
         stats["gl_renderer"] = context->renderer();
+        if (job.checkReuse) stats["check_reuse"] = "passed";
         writeText(outputs, job.stats, stats.dump(2) + "\n");
     }
     failOnGLErrors();
@@ -282,7 +316,7 @@ int commandRender(const std::vector<std::string>& args) {
     Options opts("render", args, 1,
                  {"--scene", "--technique", "--set", "--size", "--out", "--visibility", "--positions", "--ids",
                   "--stats", "--frames", "--internals", "--pixel", "--light-size", "--gl"},
-                 {"--no-reuse"});
+                 {"--no-reuse", "--check-reuse"});
     if (!opts.positional().empty()) throw InputError("render: unexpected argument '" + opts.positional()[0] + "'");
     if (!opts.has("--scene")) throw InputError("render: --scene is required (a scene name or a .json path)");
     RenderJob job;
@@ -294,6 +328,9 @@ int commandRender(const std::vector<std::string>& args) {
     if (opts.has("--light-size")) job.options.lightSize = opts.getFloat("--light-size", 0.0f, 0.0f, 1e6f);
     job.frames = opts.getInt("--frames", 1, 1, 100000);
     job.options.reuse = !opts.has("--no-reuse");
+    job.checkReuse = opts.has("--check-reuse");
+    if (job.checkReuse && !job.options.reuse)
+        throw InputError("render: --check-reuse checks the outputs the graph reuses; it cannot be combined with --no-reuse");
     job.out = opts.get("--out");
     job.visibility = opts.get("--visibility");
     job.positions = opts.get("--positions");
@@ -414,7 +451,7 @@ void printUsage() {
         "  shadowlab list [--json]           techniques with parameters, scenes, lessons\n"
         "  shadowlab render --scene S [--technique T] [--set k=v]... [--size WxH] [--out img.png]\n"
         "                   [--visibility v.pfm] [--positions p.pfm] [--ids i.pfm] [--stats s.json]\n"
-        "                   [--frames N] [--no-reuse] [--internals DIR] [--pixel x,y] [--light-size S]\n"
+        "                   [--frames N] [--no-reuse] [--check-reuse] [--internals DIR] [--pixel x,y] [--light-size S]\n"
         "                   [--gl egl|osmesa]\n"
         "  shadowlab reference --scene S [--samples N | --rays M] --out v.pfm [--size WxH] [--light-size S]\n"
         "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png]\n"

@@ -16,40 +16,46 @@ TEST(Descriptors, ParametersAreCompleteAndDefaultsInRange) {
     for (const TechniqueDesc* d : allTechniques()) {
         std::set<std::string> keys;
         EXPECT_FALSE(d->citation.empty()) << d->id;
-        EXPECT_TRUE(d->create) << d->id;
+        for (const PassDesc& pass : d->passes) EXPECT_TRUE(pass.create) << d->id << "/" << pass.name;
+        EXPECT_EQ(validateTechnique(*d), std::vector<std::string>{}) << d->id;
         for (const ParamDesc& p : d->params) {
             EXPECT_TRUE(keys.insert(p.key).second) << d->id << ": duplicate " << p.key;
             EXPECT_LE(p.minValue, p.defaultValue) << d->id << "." << p.key;
             EXPECT_LE(p.defaultValue, p.maxValue) << d->id << "." << p.key;
-            EXPECT_GT(p.step, 0.0) << d->id << "." << p.key;
+            if (p.type != ParamDesc::Type::Enum) EXPECT_GT(p.step, 0.0) << d->id << "." << p.key;
             EXPECT_FALSE(p.doc.empty()) << d->id << "." << p.key;
             ParamValues values(*d);
-            EXPECT_NO_THROW(values.set(*d, p.key, std::to_string(p.defaultValue), "test"));
+            std::string text = p.type == ParamDesc::Type::Enum ? p.choices.at(size_t(p.defaultValue))
+                               : p.type == ParamDesc::Type::Float ? std::to_string(p.defaultValue)
+                                                                  : std::to_string((long long)p.defaultValue);
+            EXPECT_NO_THROW(values.set(*d, p.key, text, "test"));
         }
     }
 }
 
 TEST(Descriptors, EveryInputIsProduced) {
-    const std::set<std::string> frame = {"gbuffer", "scene.casters", "scene.objects", "camera", "light"};
+    const std::set<std::string> frame = {"gbuffer", "scene.casters", "scene.objects", "camera", "light",
+                                         "light.radiance", "ambient"};
     for (const TechniqueDesc* d : allTechniques()) {
         std::set<std::string> produced;
         ASSERT_FALSE(d->passes.empty()) << d->id;
         for (const PassDesc& pass : d->passes) {
-            for (const std::string& in : pass.inputs) {
+            for (const std::string& in : pass.reads) {
                 if (in.rfind("param:", 0) == 0) {
                     EXPECT_TRUE(d->findParam(in.substr(6))) << d->id << "/" << pass.name << " reads undeclared " << in;
                 } else {
                     EXPECT_TRUE(frame.count(in) || produced.count(in)) << d->id << "/" << pass.name << " reads " << in;
                 }
             }
-            for (const std::string& out : pass.outputs) produced.insert(out);
+            for (const std::string& m : pass.modifies) EXPECT_TRUE(produced.count(m)) << d->id << "/" << pass.name;
+            for (const std::string& out : pass.writes()) produced.insert(out);
         }
         EXPECT_TRUE(produced.count("visibility")) << d->id;
         // Every parameter is read by some pass, so changing it re-runs what depends on it.
         for (const ParamDesc& p : d->params) {
             bool read = false;
             for (const PassDesc& pass : d->passes)
-                for (const std::string& in : pass.inputs) read |= in == "param:" + p.key;
+                for (const std::string& in : pass.reads) read |= in == "param:" + p.key;
             EXPECT_TRUE(read) << d->id << "." << p.key << " is read by no pass";
         }
     }

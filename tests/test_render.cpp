@@ -362,8 +362,8 @@ TEST_F(RenderTest, ChangingAParameterRerunsOnlyItsReaders) {
     int a = 0, b = 0;
     graph.setSource("param:sm_size", 1);
     graph.setSource("param:bias", 1);
-    graph.addPass("map", "L0", "hard", {"param:sm_size"}, {"map"}, [&] { ++a; });
-    graph.addPass("lookup", "L0", "hard", {"map", "param:bias"}, {"vis"}, [&] { ++b; });
+    graph.addPass("map", "L0", "hard", {"param:sm_size"}, {"map"}, {}, [&] { ++a; });
+    graph.addPass("lookup", "L0", "hard", {"map", "param:bias"}, {"vis"}, {}, [&] { ++b; });
     auto timer = [](const std::function<void()>& f) { f(); return 0.0; };
     graph.execute({"vis"}, 0, timer);
     graph.setSource("param:bias", 2);

@@ -1,24 +1,44 @@
-// Shading (DESIGN.md section 3): albedo * (ambient + sum_l v_l * direct_l), linear RGB.
+// The frame's visibility buffer and shading in one pass (DESIGN.md section 3):
+//   v     = sum_l v_l E_l / sum_l E_l   (E_l: the unshadowed direct light of light l; with one light
+//                                        v is that light's visibility exactly)
+//   image = albedo * (ambient + sum_l v_l * max(n.l, 0) * radiance_l), linear RGB.
+// Background and objects that receive no shadows get v = 1. Each pixel reads only what it needs:
+// a background pixel reads its position and nothing else.
 #include "gbuffer_access.glsl"
 #include "lights.glsl"
 uniform float ambient;
-layout(location = 0) out vec4 color;
+layout(location = 0) out float visibility;
+layout(location = 1) out vec4 color;
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    if (isBackground(pixel)) {
+    vec4 position = texelFetch(gPosition, pixel, 0);
+    if (position.w == 0.0) {
+        visibility = 1.0;
         color = vec4(0.05, 0.06, 0.08, 1.0);
         return;
     }
-    vec3 p = worldPosition(pixel);
+    vec3 p = position.xyz;
     vec4 n = texelFetch(gNormal, pixel, 0);
     vec3 albedo = texelFetch(gMaterial, pixel, 0).rgb;
+    bool receives = n.w != 0.0;
     vec3 light = vec3(ambient);
-    for (int i = 0; i < MAX_LIGHTS; ++i) {  // constant bound: see combine.frag
-        if (i >= lightCount) break;
-        float v = n.w == 0.0 ? 1.0 : lightVisibilityAt(i, pixel);
+    float weighted = 0.0, weights = 0.0, plain = 0.0;
+#if LIGHT_COUNT > 0
+    for (int i = 0; i < LIGHT_COUNT; ++i) {  // unrolled: LIGHT_COUNT is a compile-time constant
+        float v = receives ? texelFetch(lightVisibility[i], min(pixel, textureSize(lightVisibility[i], 0) - 1), 0).r : 1.0;
         vec3 toLight = normalize(lightPositions[i] - p);
-        light += v * max(dot(n.xyz, toLight), 0.0) * lightRadiance[i];
+        float cosine = max(dot(n.xyz, toLight), 0.0);
+        float e = directWeight(cosine, lightRadiance[i]);
+        weighted += v * e;
+        weights += e;
+        plain += v;
+        light += v * cosine * lightRadiance[i];
     }
+    // A receiver facing away from every light: the plain mean keeps v defined.
+    visibility = !receives ? 1.0 : weights > 0.0 ? weighted / weights : plain / float(LIGHT_COUNT);
+#else
+    visibility = 1.0;
+#endif
     color = vec4(albedo * light, 1.0);
 }

@@ -4,7 +4,7 @@
 #include "../common/gbuffer_access.glsl"
 #include "../common/shadow_lookup.glsl"
 #ifdef PCF
-uniform int pcfKernel;  // n, odd
+uniform int pcfKernel;  // n, odd (the parameter table enforces it)
 #endif
 layout(location = 0) out float visibility;
 
@@ -22,7 +22,9 @@ void main() {
     float lit = 0.0;
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) lit += shadowTestOffset(receiver, vec2(dx, dy));
-    visibility = lit / float(pcfKernel * pcfKernel);
+    // (2r + 1)^2 taps were taken: n^2 for the odd n the table accepts, and never more than taken.
+    float taps = float((2 * radius + 1) * (2 * radius + 1));
+    visibility = lit / taps;
 #else
     visibility = shadowTest(p, n);
 #endif

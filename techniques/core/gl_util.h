@@ -42,11 +42,38 @@ private:
     mutable std::map<std::string, GLint> locations_;
 };
 
+enum class Format { R32F, RG32F, RGBA32F, R32UI, RG32UI, RGBA32UI, R32I, RGBA8, RGBA16F, DEPTH32F, DEPTH32F_STENCIL8 };
+inline GLenum glInternalFormat(Format f) {
+    switch (f) {
+        case Format::R32F: return GL_R32F;
+        case Format::RG32F: return GL_RG32F;
+        case Format::RGBA32F: return GL_RGBA32F;
+        case Format::R32UI: return GL_R32UI;
+        case Format::RG32UI: return GL_RG32UI;
+        case Format::RGBA32UI: return GL_RGBA32UI;
+        case Format::R32I: return GL_R32I;
+        case Format::RGBA8: return GL_RGBA8;
+        case Format::RGBA16F: return GL_RGBA16F;
+        case Format::DEPTH32F: return GL_DEPTH_COMPONENT32F;
+        case Format::DEPTH32F_STENCIL8: return GL_DEPTH32F_STENCIL8;
+    }
+    return GL_R32F;
+}
+inline const char* formatName(Format f) {
+    static const char* names[] = {"R32F", "RG32F", "RGBA32F", "R32UI", "RG32UI", "RGBA32UI", "R32I", "RGBA8", "RGBA16F", "DEPTH32F", "DEPTH32F_STENCIL8"};
+    return names[int(f)];
+}
 // A 2D texture owned by the renderer; bytes() feeds the memory figures of --stats.
 class Texture {
 public:
     Texture() = default;
     Texture(int width, int height, GLenum internalFormat, GLenum filter = GL_NEAREST);
+    static Texture create2D(int w, int h, Format f, int levels = 1, GLenum filter = GL_NEAREST) {
+        (void)levels;
+        return Texture(w, h, glInternalFormat(f), filter);
+    }
+    static Texture createArray(int, int, int, Format, int) { return Texture(); }
+    int levels() const { return 1; }
     ~Texture();
     Texture(Texture&& other) noexcept;
     Texture& operator=(Texture&& other) noexcept;
@@ -87,6 +114,19 @@ private:
 // Reads a float texture (R32F, RG32F, RGBA32F ...) into an Image with `channels` channels,
 // flipping rows so that row 0 is the top of the picture.
 Image readTexture(const Texture& texture, int channels);
+
+// TEMPORARY until the GPU-feature API lands: level 0, float formats, channels from the format.
+inline Image readTextureLevel(const Texture& t, int level = 0) {
+    (void)level;
+    GLenum f = t.format();
+    int channels = f == GL_RG32F ? 2 : (f == GL_RGBA32F || f == GL_RGBA16F || f == GL_RGBA8) ? 4 : 1;
+    if (f == GL_DEPTH_COMPONENT32F) {
+        Image img(t.width(), t.height(), 1);
+        glGetTextureImage(t.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(img.data.size() * 4), img.data.data());
+        return img;
+    }
+    return readTexture(t, channels);
+}
 
 // One empty VAO for full-screen triangles (gl_VertexID based).
 void drawFullscreenTriangle();

@@ -3,186 +3,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <glm/gtc/matrix_transform.hpp>
+#include <cstring>
 
 #include "error.h"
 
 namespace shadowlab {
 
-// ---- light frustum --------------------------------------------------------------------------------
-LightView fitLightView(const Light& light, const glm::vec3& position, const Bounds& bounds) {
-    LightView view;
-    view.position = position;
-    glm::vec3 up = light.up;
-    if (std::abs(glm::dot(up, light.direction)) > 0.999f) up = std::abs(light.direction.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
-    view.viewFromWorld = glm::lookAt(position, position + light.direction, up);
-    // Fit a symmetric frustum around the corners of the bounds in front of the light.
-    float maxTan = 0.0f, minZ = 1e30f, maxZ = 0.0f;
-    bool cornerBehind = bounds.empty();
-    if (!bounds.empty()) {
-        for (int i = 0; i < 8; ++i) {
-            glm::vec3 corner((i & 1) ? bounds.hi.x : bounds.lo.x, (i & 2) ? bounds.hi.y : bounds.lo.y,
-                             (i & 4) ? bounds.hi.z : bounds.lo.z);
-            glm::vec3 v = glm::vec3(view.viewFromWorld * glm::vec4(corner, 1.0f));
-            float z = -v.z;
-            maxZ = std::max(maxZ, z);
-            if (z <= 1e-6f * std::max(1.0f, std::abs(v.x) + std::abs(v.y))) {
-                cornerBehind = true;
-                continue;
-            }
-            minZ = std::min(minZ, z);
-            maxTan = std::max({maxTan, std::abs(v.x) / z, std::abs(v.y) / z});
-        }
-    }
-    // A corner beside or behind the light plane (the light inside the bounds, or at their edge)
-    // needs the widest frustum, and a near plane close to the light: geometry may pass right by it.
-    const float maxHalfAngleTan = std::tan(glm::radians(80.0f));
-    view.tanHalfFov = cornerBehind ? maxHalfAngleTan : std::min(maxTan * 1.02f + 1e-4f, maxHalfAngleTan);
-    if (maxZ <= 1e-6f) maxZ = 1.0f;
-    view.farZ = maxZ * 1.01f;
-    view.nearZ = cornerBehind ? view.farZ * 1e-6f : std::max(std::min(minZ * 0.9f, view.farZ * 0.5f), view.farZ * 1e-6f);
-    // Reversed depth (near -> 1, far -> 0, with glClipControl GL_ZERO_TO_ONE in ShadowMap::render):
-    // a float depth buffer then resolves surfaces equally well at every distance, so a near/far
-    // ratio of 1e6 still orders nearby surfaces correctly. x and y do not depend on near and far.
-    view.clipFromView = glm::perspectiveRH_ZO(2.0f * std::atan(view.tanHalfFov), 1.0f, view.farZ, view.nearZ);
-    return view;
-}
-
-// ---- GPU scene --------------------------------------------------------------------------------------
-GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
-    for (const Object& object : scene.objects) {
-        GpuMesh m;
-        std::vector<float> interleaved;
-        interleaved.reserve(object.mesh.positions.size() * 6);
-        for (size_t i = 0; i < object.mesh.positions.size(); ++i) {
-            const glm::vec3& p = object.mesh.positions[i];
-            glm::vec3 n = i < object.mesh.normals.size() ? object.mesh.normals[i] : glm::vec3(0, 1, 0);
-            interleaved.insert(interleaved.end(), {p.x, p.y, p.z, n.x, n.y, n.z});
-        }
-        glCreateVertexArrays(1, &m.vao);
-        glCreateBuffers(1, &m.vbo);
-        glCreateBuffers(1, &m.ebo);
-        glNamedBufferStorage(m.vbo, GLsizeiptr(std::max<size_t>(interleaved.size(), 1) * sizeof(float)),
-                             interleaved.empty() ? nullptr : interleaved.data(), 0);
-        glNamedBufferStorage(m.ebo, GLsizeiptr(std::max<size_t>(object.mesh.indices.size(), 1) * sizeof(uint32_t)),
-                             object.mesh.indices.empty() ? nullptr : object.mesh.indices.data(), 0);
-        glVertexArrayVertexBuffer(m.vao, 0, m.vbo, 0, 6 * sizeof(float));
-        glVertexArrayElementBuffer(m.vao, m.ebo);
-        glEnableVertexArrayAttrib(m.vao, 0);
-        glEnableVertexArrayAttrib(m.vao, 1);
-        glVertexArrayAttribFormat(m.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-        glVertexArrayAttribFormat(m.vao, 1, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float));
-        glVertexArrayAttribBinding(m.vao, 0, 0);
-        glVertexArrayAttribBinding(m.vao, 1, 0);
-        m.indexCount = GLsizei(object.mesh.indices.size());
-        meshes_.push_back(m);
-    }
-}
-
-GpuScene::~GpuScene() {
-    for (GpuMesh& m : meshes_) {
-        glDeleteVertexArrays(1, &m.vao);
-        glDeleteBuffers(1, &m.vbo);
-        glDeleteBuffers(1, &m.ebo);
-    }
-}
-
-void GpuScene::draw(const ShaderProgram& program, double t, bool castersOnly) const {
-    program.use();
-    for (size_t i = 0; i < scene_.objects.size(); ++i) {
-        const Object& object = scene_.objects[i];
-        if (castersOnly && !object.castsShadows) continue;
-        if (meshes_[i].indexCount == 0) continue;
-        program.set("worldFromObject", object.worldFromObjectAt(t));
-        program.set("albedo", object.albedo);
-        program.set("objectId", float(object.id));
-        program.set("receivesShadows", object.receivesShadows ? 1.0f : 0.0f);
-        glBindVertexArray(meshes_[i].vao);
-        glDrawElements(GL_TRIANGLES, meshes_[i].indexCount, GL_UNSIGNED_INT, nullptr);
-    }
-    glBindVertexArray(0);
-}
-
-const ShaderProgram& ProgramCache::get(const std::string& vertex, const std::string& fragment,
-                                       const std::vector<std::string>& defines, const std::string& geometry) {
-    std::string key = vertex + "|" + fragment + "|" + geometry;
-    for (const std::string& d : defines) key += "|" + d;
-    auto it = programs_.find(key);
-    if (it != programs_.end()) return *it->second;
-    auto program = std::make_unique<ShaderProgram>(vertex, fragment, defines, geometry);
-    const ShaderProgram& ref = *program;
-    programs_[key] = std::move(program);
-    return ref;
-}
-
-// ---- internals ------------------------------------------------------------------------------------
-static std::string joinPath(const std::string& dir, const std::string& name) {
-    return (std::filesystem::path(dir) / name).string();
-}
-
-void InternalWriter::image(const std::string& name, const Image& img, const std::string& doc) {
-    std::string file = prefix_ + name + ".pfm";
-    std::filesystem::create_directories(std::filesystem::path(joinPath(directory_, file)).parent_path());
-    writePFM(outputs_.stage(joinPath(directory_, file)), img);
-    entries_.push_back({{"name", name}, {"file", file}, {"kind", "image"},
-                        {"size", {img.width, img.height}}, {"channels", img.channels}, {"description", doc}});
-}
-
-void InternalWriter::geometry(const std::string& name, const std::string& objText, size_t primitives,
-                              const std::string& doc) {
-    std::string file = prefix_ + name + ".obj";
-    std::filesystem::create_directories(std::filesystem::path(joinPath(directory_, file)).parent_path());
-    std::ofstream(outputs_.stage(joinPath(directory_, file)), std::ios::binary) << objText;
-    entries_.push_back({{"name", name}, {"file", file}, {"kind", "geometry"}, {"primitives", primitives},
-                        {"description", doc}});
-}
-
-void InternalWriter::json(const std::string& name, const nlohmann::json& value, const std::string& doc) {
-    std::string file = prefix_ + name + ".json";
-    std::filesystem::create_directories(std::filesystem::path(joinPath(directory_, file)).parent_path());
-    std::ofstream(outputs_.stage(joinPath(directory_, file)), std::ios::binary) << value.dump(2) << "\n";
-    entries_.push_back({{"name", name}, {"file", file}, {"kind", "json"}, {"description", doc}});
-}
-
-void InternalWriter::writeIndex() {
-    std::filesystem::create_directories(directory_);
-    std::ofstream(outputs_.stage(joinPath(directory_, "index.json")), std::ios::binary)
-        << nlohmann::json{{"files", entries_}}.dump(2) << "\n";
-}
-
-// ---- parameters shared by shadow-map techniques ------------------------------------------------------
-std::vector<ParamDesc> shadowMapParams() {
-    using T = ParamDesc::Type;
-    return {
-        {"sm_size", "", T::Int, "texels", 1024, 1, 8192, 1,
-         "shadow-map resolution (width = height); 1024 resolves the test scenes' hard edges to under a pixel at 512x512", ""},
-        {"bias_const", "", T::Float, "texels", 1.0, 0, 100, 0.1,
-         "constant depth bias, in world-size texels of the shadow map at the receiver; one texel hides the depth quantisation of a flat receiver",
-         ""},
-        {"bias_slope", "", T::Float, "texels", 1.0, 0, 100, 0.1,
-         "slope-scaled depth bias: texels times tan(theta), theta the angle between receiver normal and light (clamped at tan 10)",
-         ""},
-        {"second_depth", "", T::Bool, "", 0, 0, 1, 1,
-         "store the second-nearest depth (Wang and Molnar 1994): closed occluders' back faces, so lit surfaces need no bias",
-         ""},
-    };
-}
-
-PassDesc shadowMapPass() {
-    return {"shadow_map", {"scene.casters", "light", "param:sm_size", "param:second_depth"}, {"shadow_map"},
-            "light-view depth of the casters from the light's centre (techniques/core/shadow_map.h)", false};
-}
-
-// ---- renderer -------------------------------------------------------------------------------------------
 namespace {
-constexpr double kSecondsPerFrame = 1.0 / 30.0;
-constexpr int kMaxLights = 8;
 
 uint64_t hashMat(const glm::mat4& m, uint64_t seed) { return hashBytes(&m[0][0], sizeof(float) * 16, seed); }
 
-uint64_t hashLight(const Light& l, const LightView& v) {
+// What shadows depend on: shape, pose, size, and the fitted light view. Colour and intensity are
+// versioned apart ("light.radiance"): changing them re-shades without re-running shadow passes.
+uint64_t hashLightGeometry(const Light& l, const LightView& v) {
     uint64_t h = hashValue(int(l.shape));
     h = hashBytes(&l.position, sizeof(glm::vec3), h);
     h = hashBytes(&l.direction, sizeof(glm::vec3), h);
@@ -192,9 +25,37 @@ uint64_t hashLight(const Light& l, const LightView& v) {
     h = hashMat(v.viewFromWorld, h);
     return hashMat(v.clipFromView, h);
 }
+
+uint64_t hashRadiance(const Light& l) {
+    uint64_t h = hashBytes(&l.color, sizeof(glm::vec3));
+    return hashValue(l.intensity, h);
+}
+
+uint64_t hashCamera(const Camera& c, int width, int height) {
+    uint64_t h = hashBytes(&c.position, sizeof(glm::vec3));
+    h = hashBytes(&c.target, sizeof(glm::vec3), h);
+    h = hashBytes(&c.up, sizeof(glm::vec3), h);
+    h = hashValue(c.fovYDegrees, h);
+    h = hashValue(c.nearPlane, h);
+    h = hashValue(c.farPlane, h);
+    return hashValue(width, hashValue(height, h));
+}
+
+bool isFrameResource(const std::string& name) {
+    return name == "gbuffer" || name == "camera" || name == "ambient" || name.rfind("scene.", 0) == 0;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 }  // namespace
 
-Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(scene), options_(options) {
+Renderer::Renderer(const Scene& scene, const RenderOptions& options)
+    : scene_(scene), options_(options) {
     if (options.width < 1 || options.height < 1 || options.width > 8192 || options.height > 8192)
         throw InputError("--size: expected WxH with each side in 1..8192, got " + std::to_string(options.width) + "x" +
                          std::to_string(options.height));
@@ -207,39 +68,29 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
     // Resolve each light's technique and parameters before any GL work, so bad input writes nothing.
     std::set<std::string> usedKeys;
     for (size_t i = 0; i < scene.lights.size(); ++i) {
-        auto state = std::make_unique<LightState>();
-        state->index = int(i);
-        state->group = "L" + std::to_string(i);
-        state->light = scene.lights[i];
+        auto slot = std::make_unique<LightSlot>();
+        LightState& state = slot->state;
+        state.index = int(i);
+        state.group = "L" + std::to_string(i);
+        state.light = scene.lights[i];
         if (options.lightSize) {
-            state->light.size = *options.lightSize;
-            if (*options.lightSize == 0.0f) state->light.shape = LightShape::Point;
+            state.light.size = *options.lightSize;
+            if (*options.lightSize == 0.0f) state.light.shape = LightShape::Point;
         }
         std::string id = !options.technique.empty() ? options.technique
-                         : !state->light.technique.empty() ? state->light.technique
-                                                           : "hard";
+                         : !state.light.technique.empty() ? state.light.technique
+                                                          : "hard";
         std::string where = !options.technique.empty() ? "--technique"
                                                        : scene.path + ": lights[" + std::to_string(i) + "].technique";
-        state->requested = &requireTechnique(id, where);
-        ParamValues requestedParams(*state->requested);
+        state.requested = &requireTechnique(id, where);
+        state.requestedParams = ParamValues(*state.requested);
         for (const auto& [key, value] : options.sets) {
-            if (state->requested->findParam(key)) {
-                requestedParams.set(*state->requested, key, value, "--set " + key + "=" + value);
+            if (state.requested->findParam(key)) {
+                state.requestedParams.set(*state.requested, key, value, "--set " + key + "=" + value);
                 usedKeys.insert(key);
             }
         }
-        // A point light runs no soft-shadow pass: hard shadows, with the shadow-map settings.
-        bool soft = std::any_of(state->requested->passes.begin(), state->requested->passes.end(),
-                                [](const PassDesc& p) { return p.soft; });
-        if (state->light.isPoint() && soft) {
-            state->desc = &requireTechnique("hard", "internal");
-            state->params = ParamValues(*state->desc);
-            state->params.copySharedFrom(requestedParams);
-        } else {
-            state->desc = state->requested;
-            state->params = requestedParams;
-        }
-        lights_.push_back(std::move(state));
+        lights_.push_back(std::move(slot));
     }
     for (const auto& [key, value] : options.sets) {
         if (usedKeys.count(key)) continue;
@@ -247,8 +98,8 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
         std::set<std::string> ids;
         std::string known;
         for (const auto& l : lights_) {
-            if (!ids.insert(l->requested->id).second) continue;
-            for (const ParamDesc& p : l->requested->params) known += (known.empty() ? "" : ", ") + p.key;
+            if (!ids.insert(l->state.requested->id).second) continue;
+            for (const ParamDesc& p : l->state.requested->params) known += (known.empty() ? "" : ", ") + p.key;
         }
         message += std::string(ids.size() > 1 ? " (the techniques in use accept: " : " (the technique in use accepts: ") +
                    (known.empty() ? std::string("no parameters") : known) + ")";
@@ -258,24 +109,18 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
 
     // GL resources.
     gpu_ = std::make_unique<GpuScene>(scene);
-    int w = options.width, h = options.height;
-    gbuffer_.width = w;
-    gbuffer_.height = h;
-    gbuffer_.position = Texture(w, h, GL_RGBA32F);
-    gbuffer_.normal = Texture(w, h, GL_RGBA32F);
-    gbuffer_.material = Texture(w, h, GL_RGBA32F);
-    gbuffer_.depth = Texture(w, h, GL_DEPTH_COMPONENT32F);
-    gbuffer_.fbo = Framebuffer({&gbuffer_.position, &gbuffer_.normal, &gbuffer_.material}, &gbuffer_.depth);
-    visibility_ = Texture(w, h, GL_R32F);
-    image_ = Texture(w, h, GL_RGBA32F);
-    visibilityFbo_ = Framebuffer({&visibility_}, nullptr);
-    imageFbo_ = Framebuffer({&image_}, nullptr);
+    frame_.scene = &scene;
+    frame_.gpu = gpu_.get();
+    frame_.programs = &programs_;
+    frame_.width = options.width;
+    frame_.height = options.height;
+    frame_.camera = scene.camera;
+    frame_.ambient = scene.ambient;
+    allocateFrameResources();
     white_ = Texture(1, 1, GL_R32F);
     const float one = 1.0f;
     glTextureSubImage2D(white_.id(), 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &one);
-    for (auto& l : lights_) {
-        if (l->light.castsShadows) l->instance = l->desc->create();
-    }
+    for (auto& l : lights_) configureLight(*l);
     if (!options_.cpuClock) glCreateQueries(GL_TIME_ELAPSED, 1, &timerQuery_);
     buildGraph();
 }
@@ -284,6 +129,270 @@ Renderer::~Renderer() {
     if (timerQuery_) glDeleteQueries(1, &timerQuery_);
 }
 
+// ---- configuration ------------------------------------------------------------------------------------
+void Renderer::configureLight(LightSlot& slot) {
+    LightState& s = slot.state;
+    // A point light runs no soft-shadow pass: hard shadows, with the shadow-map settings.
+    bool soft = std::any_of(s.requested->passes.begin(), s.requested->passes.end(), [](const PassDesc& p) { return p.soft; });
+    if (s.light.isPoint() && soft) {
+        s.desc = &requireTechnique("hard", "internal");
+        s.params = ParamValues(*s.desc);
+        s.params.copySharedFrom(s.requestedParams);
+    } else {
+        s.desc = s.requested;
+        s.params = s.requestedParams;
+    }
+    slot.passes.clear();
+    if (s.light.castsShadows)
+        for (const PassDesc& p : s.desc->passes) slot.passes.push_back(p.create());
+}
+
+void Renderer::allocateFrameResources() {
+    int w = frame_.width, h = frame_.height;
+    auto tex = [&](const std::string& name, Format f, const std::string& doc) -> const Texture* {
+        return &pool_.ensure("frame/" + name, ResourceDesc::texture(name, f, SizeRule::frame(), doc), w, h).texture;
+    };
+    frame_.gbuffer.width = w;
+    frame_.gbuffer.height = h;
+    frame_.gbuffer.position = tex("gbuffer.position", Format::RGBA32F, "world position xyz; w = 1 on geometry, 0 on background");
+    frame_.gbuffer.normal = tex("gbuffer.normal", Format::RGBA32F, "unit world normal xyz; w = 1 when the object receives shadows");
+    frame_.gbuffer.material = tex("gbuffer.material", Format::RGBA32F, "albedo rgb; a = object id (-1 on background)");
+    frame_.gbuffer.depth = tex("gbuffer.depth", Format::DEPTH32F, "camera depth");
+    const Texture* visibility = tex("visibility", Format::R32F, "the frame's visibility v, combined over the lights");
+    const Texture* image = tex("image", Format::RGBA32F, "the shaded image, linear RGB");
+    gbufferFbo_ = Framebuffer({frame_.gbuffer.position, frame_.gbuffer.normal, frame_.gbuffer.material}, frame_.gbuffer.depth);
+    shadeFbo_ = Framebuffer({visibility, image}, nullptr);
+}
+
+std::vector<size_t> Renderer::lightIndices(int light) const {
+    std::vector<size_t> out;
+    if (light >= int(lights_.size())) throw InputError("light " + std::to_string(light) + ": the scene has " +
+                                                       std::to_string(lights_.size()) + " light(s)");
+    for (size_t i = 0; i < lights_.size(); ++i)
+        if (light < 0 || size_t(light) == i) out.push_back(i);
+    return out;
+}
+
+void Renderer::buildGraph() {
+    graph_.rebuild();
+    // Frame sources; their versions are set by updateSources() before every frame.
+    for (const char* source : {"scene.objects", "scene.casters", "camera", "ambient"})
+        if (!graph_.produces(source)) graph_.setSource(source, graph_.version(source));
+
+    graph_.addPass("gbuffer", "frame", "", {"scene.objects", "camera"}, {"gbuffer"}, {}, [this] {
+        PipelineState state = PipelineState::fullscreen();
+        state.depthTest = true;
+        state.depthFunc = GL_LESS;
+        state.apply();
+        PassContext ctx(frame_, nullptr, pool_, "gbuffer", {"scene.objects", "camera"});
+        const ShaderProgram& program = programs_.get("common/gbuffer.vert", "common/gbuffer.frag");
+        float aspect = float(frame_.width) / float(frame_.height);
+        program.use();
+        program.set("viewFromWorld", ctx.camera().viewFromWorld());
+        program.set("clipFromView", ctx.camera().clipFromView(aspect));
+        gbufferFbo_.bind(frame_.width, frame_.height);
+        const float zero[4] = {0, 0, 0, 0};
+        const float background[4] = {0, 0, 0, -1};
+        const float one = 1.0f;
+        glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 1, zero);
+        glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 2, background);
+        glClearNamedFramebufferfv(gbufferFbo_.id(), GL_DEPTH, 0, &one);
+        ctx.drawScene(program, false);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    });
+
+    std::vector<std::string> shadeInputs = {"gbuffer", "ambient"};
+    for (auto& lp : lights_) {
+        LightSlot& slot = *lp;
+        LightState& l = slot.state;
+        std::string g = l.group + "/";
+        for (const char* source : {"light", "light.radiance"})
+            if (!graph_.produces(g + source)) graph_.setSource(g + source, graph_.version(g + source));
+        shadeInputs.push_back(g + "light");
+        shadeInputs.push_back(g + "light.radiance");
+        if (!l.light.castsShadows) {
+            for (const PassDesc& p : l.requested->passes)
+                graph_.addStaticSkip(g + l.requested->id + "/" + p.name, l.group, l.requested->id,
+                                     "light casts no shadows: no shadow pass, visibility 1");
+            continue;
+        }
+        if (l.desc != l.requested) {
+            for (const PassDesc& p : l.requested->passes)
+                graph_.addStaticSkip(g + l.requested->id + "/" + p.name, l.group, l.requested->id,
+                                     "point light (size 0): soft-shadow passes do not run, `hard` passes replace them");
+        }
+        for (const ParamDesc& p : l.desc->params) graph_.setSource(g + "param:" + p.key, hashValue(l.params.get(p.key)));
+        for (size_t i = 0; i < l.desc->passes.size(); ++i) {
+            const PassDesc& pass = l.desc->passes[i];
+            auto qualify = [&](const std::vector<std::string>& names) {
+                std::vector<std::string> out;
+                for (const std::string& n : names) out.push_back(isFrameResource(n) ? n : g + n);
+                return out;
+            };
+            std::vector<std::string> creates;
+            for (const ResourceDesc& r : pass.creates) creates.push_back(g + r.name);
+            graph_.addPass(g + l.desc->id + "/" + pass.name, l.group, l.desc->id, qualify(pass.reads), creates,
+                           qualify(pass.modifies), [this, &slot, i] { runTechniquePass(slot, i); });
+        }
+        shadeInputs.push_back(g + "visibility");
+    }
+
+    // Shading and the combined visibility in one pass (DESIGN.md section 3):
+    // v = sum_l v_l E_l / sum_l E_l, image = albedo * (ambient + sum_l v_l * direct_l).
+    graph_.addPass("shade", "frame", "", shadeInputs, {"visibility", "image"}, {}, [this] {
+        PipelineState::fullscreen().apply();
+        std::vector<std::string> defines = {"LIGHT_COUNT " + std::to_string(lights_.size())};
+        const ShaderProgram& program = programs_.get("common/fullscreen.vert", "common/shade.frag", defines);
+        program.use();
+        for (size_t i = 0; i < lights_.size(); ++i) {
+            const LightSlot& slot = *lights_[i];
+            const Light& light = slot.state.light;
+            std::string idx = "[" + std::to_string(i) + "]";
+            program.set(("lightPositions" + idx).c_str(), light.position);
+            program.set(("lightRadiance" + idx).c_str(), light.color * light.intensity);
+            const Resource* v = light.castsShadows ? pool_.find(slot.state.group + "/visibility") : nullptr;
+            glBindTextureUnit(GLuint(3 + i), v ? v->texture.id() : white_.id());
+            program.set(("lightVisibility" + idx).c_str(), int(3 + i));
+        }
+        PassContext ctx(frame_, nullptr, pool_, "shade", {"gbuffer", "ambient"});
+        ctx.bindGBuffer(program);
+        program.set("ambient", ctx.ambient());
+        shadeFbo_.bind(frame_.width, frame_.height);
+        drawFullscreenTriangle();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    });
+}
+
+// Allocates the pass's resources from their declarations, applies its pipeline state, and runs it
+// through a context that checks every access against the declaration.
+void Renderer::runTechniquePass(LightSlot& slot, size_t index) {
+    LightState& l = slot.state;
+    const PassDesc& pass = l.desc->passes[index];
+    std::string name = l.group + "/" + l.desc->id + "/" + pass.name;
+    std::set<std::string> declared(pass.reads.begin(), pass.reads.end());
+    for (const std::string& w : pass.writes()) declared.insert(w);
+    for (const ResourceDesc& r : pass.creates) {
+        std::string q = l.group + "/" + r.name;
+        if (!r.appliesWhen.empty() && !Condition(r.appliesWhen, *l.desc, name).holds(l.params)) {
+            pool_.release(q);
+            continue;
+        }
+        int w = 1, h = 1;
+        switch (r.size.kind) {
+            case SizeRule::Kind::Frame:
+                w = (frame_.width + r.size.scaleDown - 1) / r.size.scaleDown;
+                h = (frame_.height + r.size.scaleDown - 1) / r.size.scaleDown;
+                break;
+            case SizeRule::Kind::ShadowMap:
+                w = h = l.params.getInt(r.size.from);
+                break;
+            case SizeRule::Kind::Fixed:
+                w = r.size.width;
+                h = r.size.height;
+                break;
+            case SizeRule::Kind::Like: {
+                const Resource* other = pool_.find(l.group + "/" + r.size.from);
+                if (!other) throw InternalError(name + ": '" + r.name + "' is sized like '" + r.size.from + "', which is not allocated");
+                w = (other->width + r.size.scaleDown - 1) / r.size.scaleDown;
+                h = (other->height + r.size.scaleDown - 1) / r.size.scaleDown;
+                break;
+            }
+        }
+        pool_.ensure(q, r, w, h);
+    }
+    pass.state.apply();
+    PassContext ctx(frame_, &l, pool_, name, declared);
+    slot.passes[index]->execute(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+// ---- live state -----------------------------------------------------------------------------------------
+void Renderer::setTechnique(const std::string& id, int light) {
+    const TechniqueDesc& desc = requireTechnique(id, "setTechnique");
+    for (size_t i : lightIndices(light)) {
+        LightSlot& slot = *lights_[i];
+        slot.state.requested = &desc;
+        slot.state.requestedParams = ParamValues(desc);
+        configureLight(slot);
+    }
+    buildGraph();
+    // Resources no pass declares any more are freed.
+    std::vector<std::string> keep;
+    for (const auto& [name, r] : pool_.all())
+        if (name.rfind("frame/", 0) == 0) keep.push_back(name);
+    for (const auto& lp : lights_) {
+        if (!lp->state.light.castsShadows) continue;
+        for (const PassDesc& p : lp->state.desc->passes)
+            for (const ResourceDesc& r : p.creates) keep.push_back(lp->state.group + "/" + r.name);
+    }
+    pool_.releaseAllBut(keep);
+}
+
+void Renderer::setParam(const std::string& key, const std::string& value, int light, const std::string& where) {
+    bool any = false;
+    for (size_t i : lightIndices(light)) {
+        LightSlot& slot = *lights_[i];
+        LightState& s = slot.state;
+        if (!s.requested->findParam(key)) continue;
+        s.requestedParams.set(*s.requested, key, value, where);
+        any = true;
+        if (s.desc->findParam(key)) {
+            if (s.desc == s.requested)
+                s.params = s.requestedParams;
+            else
+                s.params.copySharedFrom(s.requestedParams);
+            graph_.setSource(s.group + "/param:" + key, hashValue(s.params.get(key)));
+        }
+    }
+    if (!any) {
+        // Name the parameters the techniques in use accept.
+        const TechniqueDesc& desc = *lights_.at(lightIndices(light).at(0))->state.requested;
+        ParamValues probe(desc);
+        probe.set(desc, key, value, where);  // throws: unknown parameter, with the accepted keys
+    }
+}
+
+void Renderer::setLight(size_t index, const Light& light) {
+    LightSlot& slot = *lights_.at(index);
+    if (!std::isfinite(light.size) || light.size < 0.0f) throw InputError("setLight: size must be finite and >= 0");
+    bool wasPoint = slot.state.light.isPoint(), casts = slot.state.light.castsShadows;
+    slot.state.light = light;
+    if (light.isPoint() != wasPoint || light.castsShadows != casts) {
+        // What runs changes (a point light runs `hard`): the light's passes are rebuilt.
+        configureLight(slot);
+        buildGraph();
+    }
+    // Versions are bumped by updateSources() at the next frame: "light" when the pose, shape or
+    // size changed (through the fitted view too), "light.radiance" when colour or intensity did.
+}
+
+void Renderer::setCamera(const Camera& camera) { frame_.camera = camera; }
+void Renderer::setAmbient(float ambient) {
+    if (!std::isfinite(ambient) || ambient < 0.0f) throw InputError("setAmbient: expected a finite value >= 0");
+    frame_.ambient = ambient;
+}
+void Renderer::setTime(double seconds) {
+    frame_.time = seconds;
+    timeSet_ = true;
+}
+
+void Renderer::resize(int width, int height) {
+    if (width < 1 || height < 1 || width > 8192 || height > 8192)
+        throw InputError("resize: expected each side in 1..8192, got " + std::to_string(width) + "x" + std::to_string(height));
+    if (width == frame_.width && height == frame_.height) return;
+    frame_.width = width;
+    frame_.height = height;
+    allocateFrameResources();  // the "camera" version includes the size: every frame-size pass re-runs
+}
+
+std::vector<const LightState*> Renderer::lights() const {
+    std::vector<const LightState*> out;
+    for (const auto& l : lights_) out.push_back(&l->state);
+    return out;
+}
+
+// ---- frames ---------------------------------------------------------------------------------------------
 double Renderer::timePass(const std::function<void()>& run) {
     if (options_.cpuClock) {
         glFinish();
@@ -301,139 +410,85 @@ double Renderer::timePass(const std::function<void()>& run) {
     return double(ns) * 1e-6;
 }
 
-void Renderer::buildGraph() {
-    // Frame resources: every pass reads named versions of these.
-    graph_.setSource("scene.objects", 0);
-    graph_.setSource("scene.casters", 0);
-    graph_.setSource("camera", 0);
-
-    graph_.addPass("gbuffer", "frame", "", {"scene.objects", "camera"}, {"gbuffer"}, [this] {
-        const ShaderProgram& program = programs_.get("common/gbuffer.vert", "common/gbuffer.frag");
-        float aspect = float(gbuffer_.width) / float(gbuffer_.height);
-        program.use();
-        program.set("viewFromWorld", scene_.camera.viewFromWorld());
-        program.set("clipFromView", scene_.camera.clipFromView(aspect));
-        gbuffer_.fbo.bind(gbuffer_.width, gbuffer_.height);
-        const float zero[4] = {0, 0, 0, 0};
-        const float background[4] = {0, 0, 0, -1};
-        const float one = 1.0f;
-        glClearNamedFramebufferfv(gbuffer_.fbo.id(), GL_COLOR, 0, zero);
-        glClearNamedFramebufferfv(gbuffer_.fbo.id(), GL_COLOR, 1, zero);
-        glClearNamedFramebufferfv(gbuffer_.fbo.id(), GL_COLOR, 2, background);
-        glClearNamedFramebufferfv(gbuffer_.fbo.id(), GL_DEPTH, 0, &one);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDisable(GL_CULL_FACE);
-        glDisable(GL_BLEND);
-        gpu_->draw(program, time_, false);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    });
-
-    std::vector<std::string> visibilityInputs;
-    for (auto& lp : lights_) {
-        LightState& l = *lp;
-        std::string g = l.group + "/";
-        graph_.setSource(g + "light", 0);
-        if (!l.light.castsShadows) {
-            for (const PassDesc& p : l.requested->passes)
-                graph_.addStaticSkip(g + l.requested->id + "/" + p.name, l.group, l.requested->id,
-                                     "light casts no shadows: no shadow pass, visibility 1");
-            continue;
-        }
-        if (l.desc != l.requested) {
-            for (const PassDesc& p : l.requested->passes)
-                graph_.addStaticSkip(g + l.requested->id + "/" + p.name, l.group, l.requested->id,
-                                     "point light (size 0): soft-shadow passes do not run, `hard` passes replace them");
-        }
-        for (const auto& [key, value] : l.params.values()) graph_.setSource(g + "param:" + key, hashValue(value));
-        for (const PassDesc& pass : l.desc->passes) {
-            std::vector<std::string> inputs, outputs;
-            for (const std::string& in : pass.inputs) {
-                bool frameResource = in == "gbuffer" || in.rfind("scene.", 0) == 0 || in == "camera";
-                inputs.push_back(frameResource ? in : g + in);
-            }
-            for (const std::string& out : pass.outputs) outputs.push_back(g + out);
-            std::string passName = pass.name;
-            graph_.addPass(g + l.desc->id + "/" + pass.name, l.group, l.desc->id, inputs, outputs, [this, &l, passName] {
-                RenderContext ctx{scene_, *gpu_, programs_, gbuffer_, bounds_, time_, gbuffer_.width, gbuffer_.height};
-                l.instance->run(passName, ctx, l);
-            });
-        }
-        visibilityInputs.push_back(g + "visibility");
-    }
-    std::vector<std::string> combineInputs = visibilityInputs;
-    combineInputs.insert(combineInputs.begin(), "gbuffer");
-    for (auto& l : lights_) combineInputs.push_back(l->group + "/light");
-
-    auto bindLights = [this](const ShaderProgram& program) {
-        program.set("lightCount", int(lights_.size()));
-        for (size_t i = 0; i < lights_.size(); ++i) {
-            const LightState& l = *lights_[i];
-            std::string idx = "[" + std::to_string(i) + "]";
-            program.set(("lightPositions" + idx).c_str(), l.light.position);
-            program.set(("lightRadiance" + idx).c_str(), l.light.color * l.light.intensity);
-            glBindTextureUnit(GLuint(3 + i), l.instance ? l.instance->visibility().id() : white_.id());
-            program.set(("lightVisibility" + idx).c_str(), int(3 + i));
-        }
-        glBindTextureUnit(0, gbuffer_.position.id());
-        glBindTextureUnit(1, gbuffer_.normal.id());
-        glBindTextureUnit(2, gbuffer_.material.id());
-        program.set("gPosition", 0);
-        program.set("gNormal", 1);
-        program.set("gMaterial", 2);
-    };
-
-    graph_.addPass("visibility", "frame", "", combineInputs, {"visibility"}, [this, bindLights] {
-        const ShaderProgram& program = programs_.get("common/fullscreen.vert", "common/combine.frag");
-        visibilityFbo_.bind(gbuffer_.width, gbuffer_.height);
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_BLEND);
-        program.use();
-        bindLights(program);
-        drawFullscreenTriangle();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    });
-    graph_.addPass("shade", "frame", "", combineInputs, {"image"}, [this, bindLights] {
-        const ShaderProgram& program = programs_.get("common/fullscreen.vert", "common/shade.frag");
-        imageFbo_.bind(gbuffer_.width, gbuffer_.height);
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_BLEND);
-        program.use();
-        bindLights(program);
-        program.set("ambient", scene_.ambient);
-        drawFullscreenTriangle();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    });
+void Renderer::updateLightSources(LightSlot& slot) {
+    LightState& l = slot.state;
+    l.view = fitLightView(l.light, l.light.position, frame_.bounds);
+    graph_.setSource(l.group + "/light", hashLightGeometry(l.light, l.view));
+    graph_.setSource(l.group + "/light.radiance", hashRadiance(l.light));
 }
 
-void Renderer::updateSources(int frame) {
-    time_ = frame * kSecondsPerFrame;
-    bounds_ = scene_.bounds(time_);
+void Renderer::updateSources() {
+    frame_.bounds = scene_.bounds(frame_.time);
     uint64_t objects = 1469598103934665603ull, casters = objects;
     for (size_t i = 0; i < scene_.objects.size(); ++i) {
         const Object& o = scene_.objects[i];
-        glm::mat4 m = o.worldFromObjectAt(time_);
+        glm::mat4 m = o.worldFromObjectAt(frame_.time);
         objects = hashMat(m, hashValue(i, objects));
         if (o.castsShadows) casters = hashMat(m, hashValue(i, casters));
     }
     graph_.setSource("scene.objects", objects);
     graph_.setSource("scene.casters", casters);
-    uint64_t camera = hashBytes(&scene_.camera, sizeof(Camera));
-    camera = hashValue(gbuffer_.width, hashValue(gbuffer_.height, camera));
-    graph_.setSource("camera", camera);
-    for (auto& l : lights_) {
-        l->view = fitLightView(l->light, l->light.position, bounds_);
-        graph_.setSource(l->group + "/light", hashLight(l->light, l->view));
-    }
+    graph_.setSource("camera", hashCamera(frame_.camera, frame_.width, frame_.height));
+    graph_.setSource("ambient", hashValue(frame_.ambient));
+    for (auto& l : lights_) updateLightSources(*l);
 }
 
 void Renderer::renderFrame(int frame, const std::set<std::string>& requested) {
-    updateSources(frame);
+    if (!timeSet_) frame_.time = frame * kSecondsPerFrame;
+    timeSet_ = false;
+    frameIndex_ = frame;
+    updateSources();
     if (!options_.reuse) graph_.invalidate();
+    lastRequested_ = requested;
     graph_.execute(requested, frame, [this](const std::function<void()>& run) { return timePass(run); });
 }
 
-Image Renderer::visibility() const { return readTexture(visibility_, 1); }
+void Renderer::measureCost(int firstFrame, int frames) {
+    for (int f = firstFrame; f < firstFrame + frames; ++f)
+        graph_.measureCost(lastRequested_, f, [this](const std::function<void()>& run) { return timePass(run); });
+}
+
+std::vector<std::string> Renderer::checkReuse() {
+    // Every texture level and buffer of the pool, as bytes.
+    auto snapshot = [this] {
+        std::map<std::string, std::vector<float>> out;
+        for (const auto& [name, r] : pool_.all()) {
+            if (r->desc.kind == ResourceKind::Mesh) {
+                std::vector<float> v;
+                for (const glm::vec3& p : r->mesh.positions) v.insert(v.end(), {p.x, p.y, p.z});
+                for (uint32_t i : r->mesh.indices) v.push_back(float(i));
+                out[name] = v;
+            } else if (r->desc.kind == ResourceKind::StorageBuffer) {
+                std::vector<float> v(r->bufferBytes / 4);
+                glGetNamedBufferSubData(r->buffer, 0, GLsizeiptr(v.size() * 4), v.data());
+                out[name] = v;
+            } else {
+                for (int level = 0; level < r->texture.levels(); ++level) {
+                    Image img = readTextureLevel(r->texture, level);
+                    out[name].insert(out[name].end(), img.data.begin(), img.data.end());
+                }
+            }
+        }
+        return out;
+    };
+    auto before = snapshot();
+    graph_.rerunNeeded(lastRequested_);
+    auto after = snapshot();
+    std::vector<std::string> differ;
+    for (const auto& [name, data] : after) {
+        auto it = before.find(name);
+        if (it == before.end()) continue;
+        if (it->second.size() != data.size() ||
+            std::memcmp(it->second.data(), data.data(), data.size() * sizeof(float)) != 0)
+            differ.push_back(name);
+    }
+    return differ;
+}
+
+// ---- read-back ------------------------------------------------------------------------------------------
+const Texture& Renderer::imageTexture() const { return pool_.find("frame/image")->texture; }
+
+Image Renderer::visibility() const { return readTexture(pool_.find("frame/visibility")->texture, 1); }
 
 // xyz of a G-buffer texture, NaN on background pixels (position.w == 0).
 static Image geometryChannels(const Texture& texture, const Texture& position) {
@@ -445,18 +500,18 @@ static Image geometryChannels(const Texture& texture, const Texture& position) {
     return out;
 }
 
-Image Renderer::positions() const { return geometryChannels(gbuffer_.position, gbuffer_.position); }
-Image Renderer::normals() const { return geometryChannels(gbuffer_.normal, gbuffer_.position); }
+Image Renderer::positions() const { return geometryChannels(*frame_.gbuffer.position, *frame_.gbuffer.position); }
+Image Renderer::normals() const { return geometryChannels(*frame_.gbuffer.normal, *frame_.gbuffer.position); }
 
 Image Renderer::ids() const {
-    Image m = readTexture(gbuffer_.material, 4);
+    Image m = readTexture(*frame_.gbuffer.material, 4);
     Image out(m.width, m.height, 1);
     for (size_t i = 0; i < m.pixelCount(); ++i) out.data[i] = m.data[i * 4 + 3];
     return out;
 }
 
 Image Renderer::image() const {
-    Image linear = readTexture(image_, 4);
+    Image linear = readTexture(imageTexture(), 4);
     Image out(linear.width, linear.height, 3);
     for (size_t i = 0; i < linear.pixelCount(); ++i) {
         for (int c = 0; c < 3; ++c) {
@@ -467,21 +522,75 @@ Image Renderer::image() const {
     return out;
 }
 
-void Renderer::writeInternals(InternalWriter& out, std::optional<glm::ivec2> pixel) {
-    RenderContext ctx{scene_, *gpu_, programs_, gbuffer_, bounds_, time_, gbuffer_.width, gbuffer_.height};
-    nlohmann::json pixelData;
-    for (auto& l : lights_) {
-        out.setPrefix(l->index == 0 ? "" : "light" + std::to_string(l->index) + "/");
-        if (!l->instance) continue;
-        l->instance->writeInternals(out, ctx, *l);
-        out.image("visibility", readTexture(l->instance->visibility(), 1),
-                  "visibility v in [0,1] of this light alone (" + l->desc->id + ")");
-        if (pixel) {
-            nlohmann::json info = l->instance->pixelInfo(*pixel, ctx, *l);
-            info["light"] = l->index;
-            info["technique"] = l->desc->id;
-            pixelData["lights"].push_back(info);
+// ---- internals ------------------------------------------------------------------------------------------
+static bool internalApplies(const InternalDesc& i, const LightState& l) {
+    return i.appliesWhen.empty() || Condition(i.appliesWhen, *l.desc, l.desc->id + "." + i.name).holds(l.params);
+}
+
+std::set<std::string> Renderer::internalRequests(bool withPixelRecords) const {
+    std::set<std::string> out = {"visibility"};
+    for (const auto& lp : lights_) {
+        const LightState& l = lp->state;
+        if (!l.light.castsShadows) continue;
+        out.insert(l.group + "/visibility");
+        for (const InternalDesc& i : l.desc->internals) {
+            if (!internalApplies(i, l)) continue;
+            if (i.kind != InternalDesc::Kind::Record) {
+                out.insert(l.group + "/" + i.resource);
+            } else if (withPixelRecords) {
+                for (const std::string& r : i.reads)
+                    if (graph_.produces(l.group + "/" + r)) out.insert(l.group + "/" + r);
+                    else if (r == "gbuffer") out.insert("gbuffer");
+            }
         }
+    }
+    return out;
+}
+
+void Renderer::writeInternals(InternalWriter& out, std::optional<glm::ivec2> pixel) {
+    nlohmann::json pixelData;
+    for (auto& lp : lights_) {
+        LightState& l = lp->state;
+        out.setPrefix(l.index == 0 ? "" : "light" + std::to_string(l.index) + "/");
+        if (!l.light.castsShadows) continue;
+        nlohmann::json lightRecord = {{"light", l.index}, {"technique", l.desc->id}};
+        for (const InternalDesc& i : l.desc->internals) {
+            if (!internalApplies(i, l)) continue;
+            std::set<std::string> declared(i.reads.begin(), i.reads.end());
+            declared.insert(i.resource);
+            PassContext ctx(frame_, &l, pool_, "internal " + i.name, declared);
+            switch (i.kind) {
+                case InternalDesc::Kind::Image:
+                case InternalDesc::Kind::Pyramid: {
+                    const Resource& r = ctx.resource(i.resource);
+                    for (int level = 0; level < r.levels(); ++level) {
+                        Image img = readTextureLevel(r.texture, level);
+                        if (i.convert) i.convert(img);
+                        if (i.kind == InternalDesc::Kind::Pyramid)
+                            out.image(i.name, img, i.doc + " (level " + std::to_string(level) + ")", "pyramid", level);
+                        else
+                            out.image(i.name, img, i.doc);
+                    }
+                    break;
+                }
+                case InternalDesc::Kind::Mesh:
+                case InternalDesc::Kind::Lines:
+                    out.mesh(i.name, ctx.mesh(i.resource), internalKindName(i.kind), i.doc);
+                    break;
+                case InternalDesc::Kind::Record:
+                    if (pixel) {
+                        nlohmann::json record = i.record(ctx, *pixel);
+                        if (i.name == "pixel")
+                            lightRecord.update(record);
+                        else
+                            lightRecord[i.name] = record;
+                    }
+                    break;
+            }
+        }
+        out.image("visibility", readTexture(pool_.find(l.group + "/visibility")->texture, 1),
+                  "visibility v in [0,1] of this light alone (" + l.desc->id + ")");
+        if (pixel) pixelData["lights"].push_back(lightRecord);
     }
     out.setPrefix("");
     if (pixel) {
@@ -494,72 +603,78 @@ void Renderer::writeInternals(InternalWriter& out, std::optional<glm::ivec2> pix
         else
             pixelData["position"] = nullptr;
         pixelData["visibility"] = vis.at(x, y);
-        out.json("pixel", pixelData, "per-pixel data of the picked pixel (--pixel x,y; y counted from the top)");
+        out.json("pixel", pixelData, "per-pixel records of the picked pixel (--pixel x,y; y counted from the top)", "record");
     }
     out.writeIndex();
 }
 
-static double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+// ---- stats ----------------------------------------------------------------------------------------------
+bool Renderer::costMeasuredSince(int frame) const {
+    std::vector<std::string> needed = graph_.neededPasses(lastRequested_);
+    for (const PassRecord& r : graph_.records()) {
+        if (std::find(needed.begin(), needed.end(), r.name) == needed.end()) continue;
+        bool measured = std::any_of(r.times.begin(), r.times.end(), [&](const auto& t) { return t.first >= frame; });
+        if (!measured) return false;
+    }
+    return true;
 }
 
-nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFrames) const {
+nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom) const {
     nlohmann::json j;
     j["scene"] = scene_.name;
-    j["resolution"] = {gbuffer_.width, gbuffer_.height};
+    j["resolution"] = {frame_.width, frame_.height};
     j["clock"] = clockName();
     j["reuse"] = options_.reuse;
     j["warmup_frames"] = warmupFrames;
     j["frames"] = frameMs.size();
-    j["total_ms"] = median(frameMs);
-    j["frame_ms"] = frameMs;
-    j["lights"] = nlohmann::json::array();
-    for (const auto& l : lights_) {
-        nlohmann::json lj{{"index", l->index},
-                          {"name", l->light.name},
-                          {"shape", lightShapeName(l->light.shape)},
-                          {"size", l->light.size},
-                          {"casts_shadows", l->light.castsShadows},
-                          {"technique_requested", l->requested->id},
-                          {"technique", l->light.castsShadows ? l->desc->id : "none (casts no shadows)"}};
-        for (const auto& [key, value] : l->params.values()) lj["parameters"][key] = value;
-        j["lights"].push_back(lj);
-    }
+    // frame_ms: the frame as run (with reuse: a static scene costs almost nothing after its first
+    // frame). cost_ms: what a frame costs when every needed pass runs (the median of each needed
+    // pass's runs), split into shadow_ms (the techniques' passes, all lights: what speed claims
+    // compare) and fixed_ms (G-buffer, shading: the same for every technique).
+    j["frame_ms"] = median(frameMs);
+    j["frame_ms_all"] = frameMs;
+    std::vector<std::string> needed = lastRequested_.empty() ? std::vector<std::string>{} : graph_.neededPasses(lastRequested_);
+    double shadow = 0.0, fixed = 0.0;
     j["passes"] = nlohmann::json::array();
     for (const PassRecord& r : graph_.records()) {
+        bool isNeeded = std::find(needed.begin(), needed.end(), r.name) != needed.end();
+        double ms = r.medianMs(costFrom);
+        if (isNeeded) (r.technique.empty() ? fixed : shadow) += ms;
         j["passes"].push_back({{"name", r.name},
                                {"group", r.group},
                                {"technique", r.technique},
+                               {"cost", r.technique.empty() ? "fixed" : "shadow"},
+                               {"needed", isNeeded},
                                {"status", r.status},
                                {"reason", r.reason},
                                {"runs", r.runs},
                                {"reuses", r.reuses},
                                {"not_needed", r.notNeeded},
-                               {"median_ms", median(r.ms)},
+                               {"median_ms", ms},
                                {"history", r.history}});
     }
-    size_t total = 0;
-    j["buffers"] = nlohmann::json::array();
-    auto addBuffer = [&](const std::string& name, const Texture& t) {
-        if (!t) return;
-        total += t.bytes();
-        j["buffers"].push_back({{"name", name}, {"width", t.width()}, {"height", t.height()}, {"format", t.formatName()},
-                                {"bytes", t.bytes()}});
-    };
-    addBuffer("gbuffer.position", gbuffer_.position);
-    addBuffer("gbuffer.normal", gbuffer_.normal);
-    addBuffer("gbuffer.material", gbuffer_.material);
-    addBuffer("gbuffer.depth", gbuffer_.depth);
-    addBuffer("visibility", visibility_);
-    addBuffer("image", image_);
-    for (const auto& l : lights_) {
-        if (!l->instance) continue;
-        for (const auto& [name, tex] : l->instance->buffers()) addBuffer(l->group + "/" + name, *tex);
+    j["cost_ms"] = shadow + fixed;
+    j["shadow_ms"] = shadow;
+    j["fixed_ms"] = fixed;
+    j["lights"] = nlohmann::json::array();
+    for (const auto& lp : lights_) {
+        const LightState& l = lp->state;
+        nlohmann::json lj{{"index", l.index},
+                          {"name", l.light.name},
+                          {"shape", lightShapeName(l.light.shape)},
+                          {"size", l.light.size},
+                          {"casts_shadows", l.light.castsShadows},
+                          {"technique_requested", l.requested->id},
+                          {"technique", l.light.castsShadows ? l.desc->id : "none (casts no shadows)"}};
+        lj["parameters"] = l.params.toJson(*l.desc);
+        nlohmann::json inapplicable = nlohmann::json::object();
+        for (const auto& [key, reason] : l.params.inapplicable(*l.desc)) inapplicable[key] = reason;
+        if (!inapplicable.empty()) lj["parameters_not_applied"] = inapplicable;
+        j["lights"].push_back(lj);
     }
-    j["memory_bytes"] = total;
+    j["resources"] = pool_.describe();
+    j["memory_bytes"] = pool_.totalBytes() + gpu_->bytes();
+    j["scene_bytes"] = gpu_->bytes();
     return j;
 }
 

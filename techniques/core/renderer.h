@@ -1,8 +1,8 @@
-// The renderer core: GPU scene, G-buffer, shadow maps, the per-light technique instances and the
-// pass graph that runs them (DESIGN.md section 3).
+// The renderer core: the G-buffer, the per-light techniques and the pass graph that runs them
+// (DESIGN.md section 3), with live state: every setter bumps exactly the versions it changes, so
+// the next frame re-runs exactly the passes that read them.
 #pragma once
 #include <glm/glm.hpp>
-#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -10,119 +10,18 @@
 #include <string>
 #include <vector>
 
+#include "frame.h"
 #include "gl_util.h"
 #include "image.h"
+#include "internals.h"
 #include "pass_graph.h"
 #include "scene.h"
 #include "technique.h"
 
 namespace shadowlab {
 
-// The frustum of a shadow map rendered from `position` with the light's orientation, fitted to the
-// world bounds of the scene: symmetric, half-angle atan(tanHalfFov) at most 80 degrees, depth range
-// [nearZ, farZ] in world units along the light's axis.
-struct LightView {
-    glm::vec3 position{0.0f};
-    glm::mat4 viewFromWorld{1.0f};
-    glm::mat4 clipFromView{1.0f};
-    float tanHalfFov = 1.0f;
-    float nearZ = 0.1f;
-    float farZ = 100.0f;
-};
-LightView fitLightView(const Light& light, const glm::vec3& position, const Bounds& bounds);
-
-// Meshes uploaded once; draw() binds each object's transform at time t.
-class GpuScene {
-public:
-    explicit GpuScene(const Scene& scene);
-    ~GpuScene();
-    GpuScene(const GpuScene&) = delete;
-    GpuScene& operator=(const GpuScene&) = delete;
-    // Sets uniforms worldFromObject, albedo, objectId, receivesShadows on `program` per object.
-    void draw(const ShaderProgram& program, double t, bool castersOnly) const;
-
-private:
-    const Scene& scene_;
-    struct GpuMesh {
-        GLuint vao = 0, vbo = 0, ebo = 0;
-        GLsizei indexCount = 0;
-    };
-    std::vector<GpuMesh> meshes_;
-};
-
-// Compiled programs, built on first use.
-class ProgramCache {
-public:
-    const ShaderProgram& get(const std::string& vertex, const std::string& fragment,
-                             const std::vector<std::string>& defines = {}, const std::string& geometry = "");
-
-private:
-    std::map<std::string, std::unique_ptr<ShaderProgram>> programs_;
-};
-
-// G-buffer from the camera (DESIGN.md section 3). position: xyz world, w = 1 on geometry and 0 on
-// background; normal: xyz unit world normal, w = 1 when the object receives shadows; material:
-// albedo rgb, object id in a (-1 on background).
-struct GBuffer {
-    int width = 0, height = 0;
-    Texture position, normal, material, depth;
-    Framebuffer fbo;
-};
-
-// What a pass sees of the frame.
-struct RenderContext {
-    const Scene& scene;
-    GpuScene& gpu;
-    ProgramCache& programs;
-    const GBuffer& gbuffer;
-    const Bounds& bounds;  // world bounds of all objects at `time`
-    double time = 0.0;
-    int width = 0, height = 0;
-};
-
-class TechniqueInstance;
-// One shadow-casting light with its technique.
-struct LightState {
-    int index = 0;
-    std::string group;              // "L0", "L1", ...
-    Light light;                    // after --light-size
-    const TechniqueDesc* requested = nullptr;  // what the user asked for
-    const TechniqueDesc* desc = nullptr;       // what runs: `hard` for a point light and a soft technique
-    ParamValues params;             // of desc
-    LightView view;                 // light-centre frustum at the current time
-    std::unique_ptr<TechniqueInstance> instance;
-};
-
-// Writes --internals files through an OutputSet and keeps index.json's entries.
-class InternalWriter {
-public:
-    InternalWriter(const std::string& directory, OutputSet& outputs) : directory_(directory), outputs_(outputs) {}
-    void image(const std::string& name, const Image& image, const std::string& doc);
-    void geometry(const std::string& name, const std::string& objText, size_t primitives, const std::string& doc);
-    void json(const std::string& name, const nlohmann::json& value, const std::string& doc);
-    void setPrefix(const std::string& prefix) { prefix_ = prefix; }  // "" or "light1/"
-    void writeIndex();
-
-private:
-    std::string directory_;
-    OutputSet& outputs_;
-    std::string prefix_;
-    nlohmann::json entries_ = nlohmann::json::array();
-};
-
-class TechniqueInstance {
-public:
-    virtual ~TechniqueInstance() = default;
-    // Runs one pass of the descriptor for this light.
-    virtual void run(const std::string& pass, RenderContext& ctx, LightState& light) = 0;
-    // The light's visibility buffer (R32F, frame size), valid once the last pass ran.
-    virtual const Texture& visibility() const = 0;
-    // GPU buffers the technique owns, for the memory figures of --stats.
-    virtual std::vector<std::pair<std::string, const Texture*>> buffers() const = 0;
-    // Exposes internals (DESIGN.md section 4) and, for a picked pixel, its per-pixel data.
-    virtual void writeInternals(InternalWriter& out, RenderContext& ctx, LightState& light) const = 0;
-    virtual nlohmann::json pixelInfo(glm::ivec2 pixel, RenderContext& ctx, LightState& light) const = 0;
-};
+constexpr double kSecondsPerFrame = 1.0 / 30.0;
+constexpr int kMaxLights = 8;
 
 struct RenderOptions {
     int width = 512;
@@ -141,49 +40,85 @@ public:
     Renderer(const Scene& scene, const RenderOptions& options);
     ~Renderer();
 
-    // Renders frame `frame` at t = frame / 30 s, running only what `requested` needs
-    // ("image", "visibility", "gbuffer").
+    // Renders frame `frame` at t = frame / 30 s, running only what `requested` needs: "image",
+    // "visibility", "gbuffer", or a light's resource ("L0/shadow_map", see internalRequests()).
     void renderFrame(int frame, const std::set<std::string>& requested);
 
-    Image visibility() const;  // 1 channel, combined over the lights (see shaders/common/combine.frag)
+    // ---- live state: each setter bumps exactly the versions it changes (checked by tests).
+    // Technique of one light (or of every light: light = -1); its parameters start at their defaults.
+    void setTechnique(const std::string& id, int light = -1);
+    // One parameter, validated against the technique's table (InputError naming `where`).
+    void setParam(const std::string& key, const std::string& value, int light = -1,
+                  const std::string& where = "setParam");
+    void setLight(size_t index, const Light& light);  // pose, size, shape, colour, intensity
+    void setCamera(const Camera& camera);
+    void setAmbient(float ambient);
+    void setTime(double seconds);  // the next renderFrame(frame) sets it from the frame again
+    void resize(int width, int height);
+
+    Image visibility() const;  // 1 channel, combined over the lights (see shaders/common/shade.frag)
     Image positions() const;   // 3 channels, NaN on background
     Image normals() const;     // 3 channels, NaN on background
     Image ids() const;         // 1 channel, -1 on background
     Image image() const;       // 3 channels, sRGB-encoded shaded image in [0,1]
 
+    // Graph outputs the applicable internals of every light read (request them before writing).
+    std::set<std::string> internalRequests(bool withPixelRecords) const;
     void writeInternals(InternalWriter& out, std::optional<glm::ivec2> pixel);
-    nlohmann::json stats(const std::vector<double>& frameMs, int warmupFrames) const;
+    // frameMs: the frames as run; costFrom: the first frame whose pass times count for cost_ms.
+    nlohmann::json stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom = 1) const;
+    // Passes needed by the last request with no run at a frame >= `frame` (their cost is unknown).
+    bool costMeasuredSince(int frame) const;
+    // Re-runs every pass the last request needed and returns the resources whose contents changed
+    // although no declared input did (an undeclared read): empty when reuse is sound.
+    std::vector<std::string> checkReuse();
+    // Times every pass the last request needed, `frames` times, at frame numbers from `firstFrame`,
+    // without changing what the graph reuses or its run counts (for cost_ms on a static scene).
+    void measureCost(int firstFrame, int frames);
+    // Forgets cached outputs: the next frame runs every needed pass.
+    void invalidate() { graph_.invalidate(); }
 
     const PassGraph& graph() const { return graph_; }
-    const std::vector<std::unique_ptr<LightState>>& lights() const { return lights_; }
-    const Texture& imageTexture() const { return image_; }
+    const ResourcePool& pool() const { return pool_; }
+    std::vector<const LightState*> lights() const;
+    const Light& lightAt(size_t index) const { return lights_.at(index)->state.light; }
+    const Camera& camera() const { return frame_.camera; }
+    float ambient() const { return frame_.ambient; }
+    const Texture& imageTexture() const;
     const char* clockName() const { return options_.cpuClock ? "cpu-finish" : "gpu-timer"; }
-    double time() const { return time_; }
+    double time() const { return frame_.time; }
+    int width() const { return frame_.width; }
+    int height() const { return frame_.height; }
+    size_t programCount() const { return programs_.size(); }
 
 private:
+    struct LightSlot {
+        LightState state;
+        std::vector<std::unique_ptr<Pass>> passes;  // one per pass of state.desc
+    };
+    void configureLight(LightSlot& slot);  // picks what runs (hard for a point light) and its passes
     void buildGraph();
-    void updateSources(int frame);
+    void allocateFrameResources();
+    void updateSources();
+    void updateLightSources(LightSlot& slot);
+    void runTechniquePass(LightSlot& slot, size_t pass);
     double timePass(const std::function<void()>& run);
+    std::vector<size_t> lightIndices(int light) const;
 
     const Scene& scene_;
     RenderOptions options_;
-    double time_ = 0.0;
-    Bounds bounds_;
     std::unique_ptr<GpuScene> gpu_;
     ProgramCache programs_;
-    GBuffer gbuffer_;
-    Texture visibility_;  // combined
-    Texture image_;       // shaded, linear RGBA32F
-    Texture white_;       // 1x1 visibility 1, for lights that cast no shadow
-    Framebuffer visibilityFbo_, imageFbo_;
-    std::vector<std::unique_ptr<LightState>> lights_;
+    FrameState frame_;
+    ResourcePool pool_;
+    Texture white_;  // 1x1 visibility 1, for lights that cast no shadow
+    Framebuffer gbufferFbo_, shadeFbo_;
+    std::vector<std::unique_ptr<LightSlot>> lights_;
     PassGraph graph_;
+    std::set<std::string> lastRequested_;
+    int frameIndex_ = 0;
+    bool timeSet_ = false;
     GLuint timerQuery_ = 0;
 };
-
-// Shadow-map parameters shared by every shadow-map technique (one table, STYLE.md 3).
-std::vector<ParamDesc> shadowMapParams();
-// The pass that renders the light-centre shadow map, as hard and pcf declare it.
-PassDesc shadowMapPass();
 
 }  // namespace shadowlab

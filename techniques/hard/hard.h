@@ -1,25 +1,12 @@
 #pragma once
-#include "renderer.h"
 #include "shadow_map.h"
 
 namespace shadowlab {
 
-// Shadow map + per-pixel depth test. pcf reuses it with the PCF define (a kernel of tests).
-class HardShadowTechnique : public TechniqueInstance {
-public:
-    explicit HardShadowTechnique(std::string shaderDefine);
-    void run(const std::string& pass, RenderContext& ctx, LightState& light) override;
-    const Texture& visibility() const override { return visibility_; }
-    std::vector<std::pair<std::string, const Texture*>> buffers() const override;
-    void writeInternals(InternalWriter& out, RenderContext& ctx, LightState& light) const override;
-    nlohmann::json pixelInfo(glm::ivec2 pixel, RenderContext& ctx, LightState& light) const override;
-
-private:
-    std::string define_;
-    ShadowMap shadowMap_;
-    Texture visibility_;
-    Framebuffer fbo_;
-};
+// The depth-test pass of `hard`; with `pcf` true it averages an n x n kernel of tests (pcf reuses it).
+PassDesc depthTestPass(bool pcf);
+// The per-pixel record of --pixel for the shadow-map techniques: the receiver's texel and depths.
+InternalDesc shadowMapPixelRecord();
 
 const TechniqueDesc& hardTechnique();
 

@@ -14,18 +14,15 @@ const TechniqueDesc& pcfTechnique() {
                     "of constant width, whatever the light size and occluder distance";
         d.soft = true;
         d.params = shadowMapParams();
-        d.params.push_back({"pcf_kernel", "n", ParamDesc::Type::Int, "texels", 5, 1, 63, 2,
-                            "kernel width n (odd): n x n depth tests; 5 smooths a 1024^2 map's staircase without "
-                            "blurring contact shadows much",
-                            ""});
-        d.passes = {
-            shadowMapPass(),
-            {"filter", {"shadow_map", "gbuffer", "param:bias_const", "param:bias_slope", "param:pcf_kernel"},
-             {"visibility"}, "mean of n x n depth tests around the receiver's texel", true},
-        };
-        d.internals = {{"shadow_map", "image", "light-view depth of the nearest caster"},
-                       {"visibility", "image", "this light's visibility"}};
-        d.create = [] { return std::make_unique<HardShadowTechnique>("PCF"); };
+        ParamDesc kernel{"pcf_kernel", "n", ParamDesc::Type::Int, "texels", 5, 1, 63, 2,
+                         "kernel width n (odd, centred on the receiver's texel): n x n depth tests; 5 smooths a 1024^2 "
+                         "map's staircase without blurring contact shadows much",
+                         ""};
+        kernel.constraint = ParamDesc::Constraint::Odd;
+        d.params.push_back(kernel);
+        d.passes = {shadowMapPass(), depthTestPass(true)};
+        d.internals = shadowMapInternals();
+        d.internals.push_back(shadowMapPixelRecord());
         return d;
     }();
     return desc;

@@ -2,55 +2,33 @@
 // the real triangles (techniques/core/raytracer.h). Independent of any shadow map: the tests use it
 // to validate `reference`. Runs on the CPU; its result is uploaded as the light's visibility.
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
 
+#include "frame.h"
+#include "progress.h"
 #include "raytracer.h"
-#include "renderer.h"
 
 namespace shadowlab {
 
 namespace {
 
-class RaytracedTechnique : public TechniqueInstance {
+class RaytracePass : public Pass {
 public:
-    void run(const std::string&, RenderContext& ctx, LightState& light) override {
-        if (!visibility_ || visibility_.width() != ctx.width || visibility_.height() != ctx.height)
-            visibility_ = Texture(ctx.width, ctx.height, GL_R32F);
-        Image positions = readTexture(ctx.gbuffer.position, 4);
-        Image normals = readTexture(ctx.gbuffer.normal, 4);
+    void execute(PassContext& ctx) override {
+        const GBuffer& g = ctx.gbuffer();
+        Image positions = readTexture(*g.position, 4);
+        Image normals = readTexture(*g.normal, 4);
         for (size_t i = 0; i < positions.pixelCount(); ++i)
             if (positions.data[i * 4 + 3] == 0.0f) positions.data[i * 4] = NAN;  // background
-        RayTracer tracer(ctx.scene, ctx.time);
-        // Progress on stderr once a run takes more than two seconds, as `reference` does.
-        auto start = std::chrono::steady_clock::now();
-        int reported = 0;
-        auto progress = [&](size_t done, size_t total) {
-            double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            int percent = total ? int(done * 100 / total) : 100;
-            if (seconds > 2.0 && percent >= reported + 10) {
-                reported = percent - percent % 10;
-                std::fprintf(stderr, "raytraced: %zu/%zu pixels (%d%%, %.1f s)\n", done, total, percent, seconds);
-            }
-        };
-        Image v = tracer.visibility(positions, normals, light.light, light.params.getInt("rays"), progress);
+        RayTracer tracer(ctx.scene(), ctx.sceneTime(true));  // the casters' triangles at this frame's time
+        ProgressReporter progress("raytraced", "pixels");
+        Image v = tracer.visibility(positions, normals, ctx.light(), ctx.paramInt("rays"),
+                                    [&](size_t done, size_t total) { progress.update(done, total); });
         // Image row 0 is the top; GL row 0 is the bottom.
         std::vector<float> rows(v.data.size());
         for (int y = 0; y < v.height; ++y)
             std::copy_n(&v.data[size_t(v.height - 1 - y) * v.width], v.width, &rows[size_t(y) * v.width]);
-        glTextureSubImage2D(visibility_.id(), 0, 0, 0, v.width, v.height, GL_RED, GL_FLOAT, rows.data());
-        triangles_ = tracer.triangleCount();
+        glTextureSubImage2D(ctx.texture("visibility").id(), 0, 0, 0, v.width, v.height, GL_RED, GL_FLOAT, rows.data());
     }
-    const Texture& visibility() const override { return visibility_; }
-    std::vector<std::pair<std::string, const Texture*>> buffers() const override { return {{"visibility", &visibility_}}; }
-    void writeInternals(InternalWriter&, RenderContext&, LightState&) const override {}
-    nlohmann::json pixelInfo(glm::ivec2, RenderContext&, LightState& light) const override {
-        return {{"rays", light.params.getInt("rays")}, {"triangles", triangles_}};
-    }
-
-private:
-    Texture visibility_;
-    size_t triangles_ = 0;
 };
 
 }  // namespace
@@ -66,10 +44,27 @@ const TechniqueDesc& raytracedTechnique() {
         d.soft = false;
         d.params = {{"rays", "M", ParamDesc::Type::Int, "", 256, 1, 65536, 1,
                      "M stratified rays per pixel; 256 keeps the noise's standard deviation under 0.03", ""}};
-        d.passes = {{"raytrace", {"scene.casters", "light", "gbuffer", "param:rays"}, {"visibility"},
-                     "M shadow rays per pixel with Embree (CPU)", false}};
-        d.internals = {{"visibility", "image", "this light's visibility"}};
-        d.create = [] { return std::make_unique<RaytracedTechnique>(); };
+        PassDesc trace;
+        trace.name = "raytrace";
+        trace.doc = "M shadow rays per pixel with Embree (CPU)";
+        trace.reads = {"scene.casters", "light", "gbuffer", "param:rays"};
+        trace.creates = {visibilityResource()};
+        trace.create = [] { return std::make_unique<RaytracePass>(); };
+        d.passes = {trace};
+        InternalDesc pixel;
+        pixel.name = "pixel";
+        pixel.kind = InternalDesc::Kind::Record;
+        pixel.doc = "the picked pixel's ray-tracing settings";
+        pixel.schema = {{"rays", "M, the shadow rays traced per pixel"},
+                        {"triangles", "triangles of the shadow casters traced against"}};
+        pixel.reads = {"param:rays", "scene.casters"};
+        pixel.record = [](PassContext& ctx, glm::ivec2) {
+            size_t triangles = 0;
+            for (const Object& o : ctx.scene().objects)
+                if (o.castsShadows) triangles += o.mesh.triangleCount();
+            return nlohmann::json{{"rays", ctx.paramInt("rays")}, {"triangles", triangles}};
+        };
+        d.internals = {pixel};
         return d;
     }();
     return desc;

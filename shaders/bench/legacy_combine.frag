@@ -1,9 +1,11 @@
+// BASELINE for benchmarks/fixed_cost.cpp: the combine pass as it was before core stage two (a loop
+// over MAX_LIGHTS = 8 that llvmpipe runs in full). Not used by the renderer.
 // The frame's visibility buffer v (DESIGN.md section 3): the fraction of the direct light that
 // reaches the pixel, v = sum_l v_l E_l / sum_l E_l with E_l the unshadowed direct light of light l.
 // With one light v is that light's visibility exactly. Background and objects that receive no
 // shadows get v = 1.
-#include "gbuffer_access.glsl"
-#include "lights.glsl"
+#include "../common/gbuffer_access.glsl"
+#include "legacy_lights.glsl"
 layout(location = 0) out float visibility;
 
 void main() {
