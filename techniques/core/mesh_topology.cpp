@@ -66,9 +66,10 @@ private:
     size_t count_ = 0;
 };
 
-// Merges positions closer than `tolerance` into the first of them. Grid cells are more than twice
-// the tolerance wide (2.5 times: a margin for rounding at cell borders), so a position's welding
-// partners lie in its own cell or, per axis, the neighbour on the side nearer to it: 8 cells. Among all partners the lowest index wins, which
+// Merges positions closer than `tolerance` into the first of them. Grid cells are 16 tolerances
+// wide, so a position's welding partners lie in its own cell or, on an axis where it is within
+// the tolerance of a cell border (a quarter more, for rounding), in the neighbour across that
+// border: usually one cell is searched, at most 8. Among all partners the lowest index wins, which
 // makes the result independent of hashing. Non-finite positions are never welded.
 void weld(const std::vector<glm::vec3>& positions, float tolerance, MeshTopology& topology) {
     Bounds bounds;
@@ -78,8 +79,12 @@ void weld(const std::vector<glm::vec3>& positions, float tolerance, MeshTopology
     const double diagonal = bounds.empty() ? 0.0 : glm::length(glm::dvec3(bounds.hi) - lo);
     // 2^20 cells per axis at most, so a cell index (plus one on either side) packs into 21 bits.
     constexpr double kMaxCells = 1048576.0;
-    const double cell = std::max({2.5 * static_cast<double>(tolerance), diagonal / kMaxCells, 1e-30});
+    const double cell = std::max({16.0 * static_cast<double>(tolerance), diagonal / kMaxCells, 1e-30});
+    const double border = 1.25 * static_cast<double>(tolerance) / cell;  // in cells
     const double toleranceSq = static_cast<double>(tolerance) * static_cast<double>(tolerance);
+    const auto pack = [](int64_t x, int64_t y, int64_t z) {
+        return static_cast<uint64_t>(x) | static_cast<uint64_t>(y) << 21 | static_cast<uint64_t>(z) << 42;
+    };
 
     CellTable table;
     std::vector<uint32_t> next;  // per welded vertex: the previous one in its cell
@@ -97,13 +102,11 @@ void weld(const std::vector<glm::vec3>& positions, float tolerance, MeshTopology
         for (int a = 0; a < 3; ++a) {
             const double f = std::floor(g[a]);
             base[a] = std::clamp<int64_t>(static_cast<int64_t>(f), 0, 1 << 20) + 1;
-            side[a] = g[a] - f < 0.5 ? -1 : 1;
+            side[a] = g[a] - f < border ? -1 : g[a] - f > 1.0 - border ? 1 : 0;
         }
-        const auto pack = [](int64_t x, int64_t y, int64_t z) {
-            return static_cast<uint64_t>(x) | static_cast<uint64_t>(y) << 21 | static_cast<uint64_t>(z) << 42;
-        };
         uint32_t best = MeshTopology::Edge::kNone;
         for (int corner = 0; corner < 8; ++corner) {
+            if (((corner & 1) && !side[0]) || ((corner & 2) && !side[1]) || ((corner & 4) && !side[2])) continue;
             const uint64_t key = pack(base[0] + ((corner & 1) ? side[0] : 0),
                                       base[1] + ((corner & 2) ? side[1] : 0),
                                       base[2] + ((corner & 4) ? side[2] : 0));
@@ -214,6 +217,7 @@ MeshTopology buildTopology(const Mesh& mesh, float weldTolerance) {
     }
 
     // Each bucket sorted by the other vertex; a run of equal (v0, v1) is one edge.
+    topology.edges.reserve(halfEdges.size() / 2 + 1);
     for (uint32_t v0 = 0; v0 < vertexCount; ++v0) {
         const auto first = halfEdges.begin() + bucketStart[v0], last = halfEdges.begin() + bucketStart[v0 + 1];
         std::sort(first, last, [](const HalfEdge& x, const HalfEdge& y) {
