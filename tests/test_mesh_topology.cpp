@@ -378,6 +378,47 @@ TEST(MeshTopologyCases, DuplicatedVerticesWeld) {
     EXPECT_EQ(zeros.vertices.size(), 3u);
 }
 
+TEST(MeshTopologyCases, WeldingMatchesABruteForceReference) {
+    // Clusters of points jittered by up to 0.95 tolerance (weld, even across grid cells: the grid
+    // is 16 tolerances wide, so many fall near a border) and by 1.05 to 3 tolerances (may or may
+    // not weld, depending on the pair). The hash grid must agree with an O(n^2) search for the
+    // lowest earlier welded vertex within the tolerance.
+    const float tolerance = 1e-3f;
+    uint64_t state = 12345;
+    const auto uniform = [&state]() {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return static_cast<float>(state >> 40) * (1.0f / 16777216.0f);
+    };
+    const auto direction = [&]() {
+        const glm::vec3 d(uniform() - 0.5f, uniform() - 0.5f, uniform() - 0.5f);
+        return glm::length(d) > 1e-3f ? glm::normalize(d) : glm::vec3(1, 0, 0);
+    };
+    Mesh mesh;
+    for (int c = 0; c < 400; ++c) {
+        const glm::vec3 centre(uniform(), uniform(), uniform());
+        mesh.positions.push_back(centre);
+        for (int j = 0; j < 4; ++j) {
+            const float scale = j < 2 ? 0.95f * uniform() : 1.05f + 2.0f * uniform();
+            mesh.positions.push_back(centre + tolerance * scale * direction());
+        }
+    }
+    const MeshTopology t = buildTopology(mesh, tolerance);
+    std::vector<uint32_t> reference(mesh.positions.size());
+    std::vector<glm::vec3> kept;
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        uint32_t best = uint32_t(kept.size());
+        for (size_t v = 0; v < kept.size() && best == kept.size(); ++v) {
+            const glm::dvec3 d = glm::dvec3(kept[v]) - glm::dvec3(mesh.positions[i]);
+            if (glm::dot(d, d) <= double(tolerance) * double(tolerance)) best = uint32_t(v);
+        }
+        if (best == kept.size()) kept.push_back(mesh.positions[i]);
+        reference[i] = best;
+    }
+    EXPECT_EQ(t.weldedFromMeshVertex, reference);
+    EXPECT_EQ(t.vertices, kept);
+    EXPECT_LT(kept.size(), mesh.positions.size() - 2 * 400 + 1);  // the close pairs did weld
+}
+
 TEST(MeshTopologyCases, DegenerateTrianglesAreListedAndLeftOut) {
     const Mesh mesh = meshOf({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5f, 0, 0}, {1e-9f, 0, 0}},
                              {0, 1, 2,  1, 3, 2,     // two good triangles
