@@ -28,7 +28,8 @@ struct WindowState {
     std::vector<std::string> techniques;
     size_t sceneIndex = 0;
     size_t techniqueIndex = 0;
-    bool rebuild = true;
+    bool rebuild = true;            // a new scene: a new renderer
+    bool techniqueChanged = false;  // the live setter: the G-buffer and shared passes stay cached
 };
 
 void onKey(GLFWwindow* window, int key, int, int action, int mods) {
@@ -38,7 +39,7 @@ void onKey(GLFWwindow* window, int key, int, int action, int mods) {
     if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) glfwSetWindowShouldClose(window, GLFW_TRUE);
     if (key == GLFW_KEY_T) {
         state->techniqueIndex = (state->techniqueIndex + state->techniques.size() + step) % state->techniques.size();
-        state->rebuild = true;
+        state->techniqueChanged = true;
     }
     if (key == GLFW_KEY_S) {
         state->sceneIndex = (state->sceneIndex + state->scenes.size() + step) % state->scenes.size();
@@ -112,7 +113,15 @@ int runWindow(const std::vector<std::string>& args) {
                                     "   (T: technique, S: scene, Esc: quit)";
                 glfwSetWindowTitle(window, title.c_str());
                 state.rebuild = false;
+                state.techniqueChanged = false;
                 frame = 0;
+            }
+            if (state.techniqueChanged) {
+                renderer->setTechnique(state.techniques[state.techniqueIndex]);
+                std::string title = "shadowlab - " + scene->name + " - " + state.techniques[state.techniqueIndex] +
+                                    "   (T: technique, S: scene, Esc: quit)";
+                glfwSetWindowTitle(window, title.c_str());
+                state.techniqueChanged = false;
             }
             renderer->renderFrame(frame++, {"image"});
             int fbWidth = 0, fbHeight = 0;

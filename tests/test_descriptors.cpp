@@ -10,6 +10,7 @@
 #include "technique.h"
 
 namespace shadowlab {
+const TechniqueDesc& templateTechnique();  // techniques/template: compiled, validated, not registered
 namespace {
 
 TEST(Descriptors, ParametersAreCompleteAndDefaultsInRange) {
@@ -72,6 +73,15 @@ TEST(Descriptors, SoftTechniquesHaveSoftPassesAndShareShadowMapParameters) {
         EXPECT_EQ(softPass, d->soft) << d->id;
         EXPECT_TRUE(d->findParam("sm_size")) << d->id;
     }
+}
+
+TEST(Descriptors, TemplateFolderIsASoundDescriptor) {
+    EXPECT_EQ(validateTechnique(templateTechnique()), std::vector<std::string>{});
+    EXPECT_EQ(findTechnique("template"), nullptr);  // not registered: a folder to copy
+    ParamValues v(templateTechnique());
+    EXPECT_EQ(v.inapplicable(templateTechnique()).size(), 1u);  // sigma applies to filter=mean only
+    v.set(templateTechnique(), "filter", "mean", "test");
+    EXPECT_TRUE(v.inapplicable(templateTechnique()).empty());
 }
 
 TEST(Descriptors, ParameterValidation) {
