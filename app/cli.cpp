@@ -13,6 +13,7 @@
 #include "gl_context.h"
 #include "image.h"
 #include "metrics.h"
+#include "provenance.h"
 #include "renderer.h"
 #include "scene.h"
 #include "technique.h"
@@ -273,10 +274,13 @@ int runRender(const RenderJob& job, const Options& opts) {
     }
 
     OutputSet outputs;
+    const RenderProvenance provenance =
+        renderProvenance(scene, renderer, options.width, options.height, frameMs, context->renderer());
     if (!job.out.empty()) writePNG(outputs.stage(job.out), renderer.image());
-    if (!job.visibility.empty()) writePFM(outputs.stage(job.visibility), renderer.visibility());
-    if (!job.positions.empty()) writePFM(outputs.stage(job.positions), renderer.positions());
-    if (!job.ids.empty()) writePFM(outputs.stage(job.ids), renderer.ids());
+    if (!job.visibility.empty())
+        writeRenderPfm(outputs, job.visibility, renderer.visibility(), provenance, visibilityMeaning(options.technique));
+    if (!job.positions.empty()) writeRenderPfm(outputs, job.positions, renderer.positions(), provenance, "positions");
+    if (!job.ids.empty()) writeRenderPfm(outputs, job.ids, renderer.ids(), provenance, "ids");
     if (!job.internals.empty()) {
         fs::create_directories(job.internals);
         InternalWriter writer(job.internals, outputs);
@@ -377,7 +381,7 @@ nlohmann::json metricsJson(const Metrics& m) {
 }
 
 int commandCompare(const std::vector<std::string>& args) {
-    Options opts("compare", args, 1, {"--mask", "--heatmap"}, {"--json"});
+    Options opts("compare", args, 1, {"--mask", "--heatmap"}, {"--json", "--strict"});
     if (opts.positional().size() != 2)
         throw InputError("compare: expected two PFM files, A.pfm (tested) and B.pfm (reference), got " +
                          std::to_string(opts.positional().size()));
@@ -391,6 +395,8 @@ int commandCompare(const std::vector<std::string>& args) {
     }
     Image a = readPFM(opts.positional()[0]);
     Image b = readPFM(opts.positional()[1]);
+    const nlohmann::json provenance =
+        checkComparedProvenance(opts.positional()[0], opts.positional()[1], opts.has("--strict"));
     if (a.channels != 1 || b.channels != 1)
         throw InputError("compare: expected 1-channel visibility PFMs (Pf), got " + std::to_string(a.channels) + " and " +
                          std::to_string(b.channels) + " channels");
@@ -412,6 +418,7 @@ int commandCompare(const std::vector<std::string>& args) {
     j["psnr"] = metricsJson(primary)["psnr"];
     j["ssim"] = primary.ssim;
     j["pixels"] = primary.pixels;
+    if (!provenance.is_null()) j["provenance"] = provenance;
     outputs.commit();
     if (opts.has("--json")) {
         std::cout << j.dump(2) << "\n";
@@ -454,7 +461,7 @@ void printUsage() {
         "                   [--frames N] [--no-reuse] [--check-reuse] [--internals DIR] [--pixel x,y] [--light-size S]\n"
         "                   [--gl egl|osmesa]\n"
         "  shadowlab reference --scene S [--samples N | --rays M] --out v.pfm [--size WxH] [--light-size S]\n"
-        "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png]\n"
+        "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png] [--strict]\n"
         "  shadowlab scene --scene S --dump-triangles out.obj [--time t]");
 }
 
@@ -462,6 +469,7 @@ void printUsage() {
 
 int runCommandLine(const std::vector<std::string>& args) {
     try {
+        rememberCommandLine(args);
         if (args.empty()) return runWindow(args);
         const std::string& command = args[0];
         if (command == "list") return commandList(args);

@@ -9,38 +9,17 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli_run.h"
 #include "image.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-    int code = -1;
-    std::string output;  // stdout and stderr
-};
+using shadowlab::test::Result;
+using shadowlab::test::run;
 
-Result run(const std::string& arguments) {
-    std::string command = std::string(SHADOWLAB_BINARY) + " " + arguments + " 2>&1";
-    Result r;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return r;
-    char buffer[4096];
-    size_t n;
-    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-    int status = pclose(pipe);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
-// Each test writes into its own folder: ctest runs tests in parallel, and the bad-input checks
-// look for stray temporaries in the folder of the output.
-std::string tmp(const std::string& name) {
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path dir = fs::path(SHADOWLAB_TEST_TMP) / "cli" / (std::string(test->test_suite_name()) + "." + test->name());
-    fs::create_directories(dir);
-    return (dir / name).string();
-}
+std::string tmp(const std::string& name) { return shadowlab::test::testPath("cli", name); }
 
 std::string readFile(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

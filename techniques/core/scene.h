@@ -150,8 +150,4 @@ Mesh loadGltfMesh(const std::string& path);
 // the binary was built from.
 std::string projectRoot();
 
-// nlohmann and tinygltf quote the text read before a JSON error ("last read: '<text>'"), which
-// can be a whole base64 buffer: keeps only its end, where the error is.
-std::string shortenLastRead(std::string detail);
-
 }  // namespace shadowlab

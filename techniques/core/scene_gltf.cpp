@@ -13,6 +13,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "error.h"
+#include "json_reader.h"
 #include "scene.h"
 
 namespace shadowlab {
