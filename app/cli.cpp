@@ -284,6 +284,7 @@ int runRender(const RenderJob& job, const Options& opts) {
     if (!job.internals.empty()) {
         fs::create_directories(job.internals);
         InternalWriter writer(job.internals, outputs);
+        writer.setProvenance(provenanceOf(provenance, "internal"));
         renderer.writeInternals(writer, job.pixel);
     }
     if (!job.stats.empty()) {

@@ -894,7 +894,7 @@ std::string leftovers(const Renderer& r, const std::function<bool(const std::str
     return out;
 }
 
-TEST_F(Stage2Render, DISABLED_PoolFreesResourcesOfPassesThatNoLongerRun) {
+TEST_F(Stage2Render, PoolFreesResourcesOfPassesThatNoLongerRun) {
     Scene scene = loadScene("square-occluder");
     RenderOptions o = pcfOptions(32);
     o.technique = "reference";

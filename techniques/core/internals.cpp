@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "error.h"
+#include "provenance.h"
 
 namespace fs = std::filesystem;
 
@@ -13,6 +14,18 @@ std::string InternalWriter::stage(const std::string& file) {
     fs::path full = fs::path(directory_) / file;
     fs::create_directories(full.parent_path());
     return outputs_.stage(full.string());
+}
+
+void InternalWriter::writeFloatImage(const std::string& file, const Image& image, const std::string& name) {
+    fs::path full = fs::path(directory_) / file;
+    fs::create_directories(full.parent_path());
+    if (provenance_.is_null()) {
+        writePFM(outputs_.stage(full.string()), image);
+        return;
+    }
+    nlohmann::json record = provenance_;
+    record["buffer"] = "internal " + prefix_ + name;
+    writePfmWithSidecar(outputs_, full.string(), image, record);
 }
 
 void InternalWriter::image(const std::string& name, const Image& img, const std::string& doc, const std::string& kind,
@@ -28,7 +41,7 @@ void InternalWriter::image(const std::string& name, const Image& img, const std:
         entries_.push_back(e);
     };
     if (img.channels == 1 || img.channels == 3) {
-        writePFM(stage(stem + ".pfm"), img);
+        writeFloatImage(stem + ".pfm", img, name);
         entry(stem + ".pfm", img.channels, -1);
         return;
     }
@@ -36,7 +49,7 @@ void InternalWriter::image(const std::string& name, const Image& img, const std:
         Image one(img.width, img.height, 1);
         for (size_t i = 0; i < one.pixelCount(); ++i) one.data[i] = img.data[i * size_t(img.channels) + size_t(c)];
         std::string file = stem + "-c" + std::to_string(c) + ".pfm";
-        writePFM(stage(file), one);
+        writeFloatImage(file, one, name);
         entry(file, 1, c);
     }
 }

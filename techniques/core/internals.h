@@ -20,14 +20,19 @@ public:
     void json(const std::string& name, const nlohmann::json& value, const std::string& doc,
               const std::string& kind = "json");
     void setPrefix(const std::string& prefix) { prefix_ = prefix; }  // "" or "light1/"
+    // Every PFM written after this gets a JSON sidecar (techniques/core/provenance.h) with this
+    // record, its "buffer" field naming the internal.
+    void setProvenance(const nlohmann::json& provenance) { provenance_ = provenance; }
     void writeIndex();
     const nlohmann::json& entries() const { return entries_; }
 
 private:
     std::string stage(const std::string& file);
+    void writeFloatImage(const std::string& file, const Image& image, const std::string& name);
     std::string directory_;
     OutputSet& outputs_;
     std::string prefix_;
+    nlohmann::json provenance_;
     nlohmann::json entries_ = nlohmann::json::array();
 };
 

@@ -317,7 +317,10 @@ void Renderer::setTechnique(const std::string& id, int light) {
         configureLight(slot);
     }
     buildGraph();
-    // Resources no pass declares any more are freed.
+    releaseUndeclaredResources();
+}
+
+void Renderer::releaseUndeclaredResources() {
     std::vector<std::string> keep;
     for (const auto& [name, r] : pool_.all())
         if (name.rfind("frame/", 0) == 0) keep.push_back(name);
@@ -362,6 +365,7 @@ void Renderer::setLight(size_t index, const Light& light) {
         // What runs changes (a point light runs `hard`): the light's passes are rebuilt.
         configureLight(slot);
         buildGraph();
+        releaseUndeclaredResources();  // e.g. reference's sample maps once the light is a point
     }
     // Versions are bumped by updateSources() at the next frame: "light" when the pose, shape or
     // size changed (through the fitted view too), "light.radiance" when colour or intensity did.

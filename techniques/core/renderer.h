@@ -98,6 +98,7 @@ private:
     };
     void configureLight(LightSlot& slot);  // picks what runs (hard for a point light) and its passes
     void buildGraph();
+    void releaseUndeclaredResources();  // frees what no pass of the current graph creates
     void allocateFrameResources();
     void updateSources();
     void updateLightSources(LightSlot& slot);
