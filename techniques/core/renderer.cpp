@@ -105,18 +105,6 @@ void GpuScene::draw(const ShaderProgram& program, double t, bool castersOnly) co
     glBindVertexArray(0);
 }
 
-const ShaderProgram& ProgramCache::get(const std::string& vertex, const std::string& fragment,
-                                       const std::vector<std::string>& defines, const std::string& geometry) {
-    std::string key = vertex + "|" + fragment + "|" + geometry;
-    for (const std::string& d : defines) key += "|" + d;
-    auto it = programs_.find(key);
-    if (it != programs_.end()) return *it->second;
-    auto program = std::make_unique<ShaderProgram>(vertex, fragment, defines, geometry);
-    const ShaderProgram& ref = *program;
-    programs_[key] = std::move(program);
-    return ref;
-}
-
 // ---- internals ------------------------------------------------------------------------------------
 static std::string joinPath(const std::string& dir, const std::string& name) {
     return (std::filesystem::path(dir) / name).string();

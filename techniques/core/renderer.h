@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "gl_program.h"  // ProgramCache, one per GL context
 #include "gl_util.h"
 #include "image.h"
 #include "pass_graph.h"
@@ -48,16 +49,6 @@ private:
         GLsizei indexCount = 0;
     };
     std::vector<GpuMesh> meshes_;
-};
-
-// Compiled programs, built on first use.
-class ProgramCache {
-public:
-    const ShaderProgram& get(const std::string& vertex, const std::string& fragment,
-                             const std::vector<std::string>& defines = {}, const std::string& geometry = "");
-
-private:
-    std::map<std::string, std::unique_ptr<ShaderProgram>> programs_;
 };
 
 // G-buffer from the camera (DESIGN.md section 3). position: xyz world, w = 1 on geometry and 0 on
@@ -170,7 +161,7 @@ private:
     double time_ = 0.0;
     Bounds bounds_;
     std::unique_ptr<GpuScene> gpu_;
-    ProgramCache programs_;
+    ProgramCache& programs_ = programCache();  // the current GL context's
     GBuffer gbuffer_;
     Texture visibility_;  // combined
     Texture image_;       // shaded, linear RGBA32F
