@@ -152,6 +152,19 @@ TEST_F(GpuFeatures, ReadTextureLevelOfFloatLevelsAndLayers) {
     EXPECT_EQ(rgArray.layers(), 2);
     EXPECT_EQ(rgArray.bytes(), size_t(8 * 2 * (6 * 4 + 3 * 2)));
     EXPECT_STREQ(rgArray.formatName().c_str(), "RG32F");
+
+    // DEPTH32F round-trips exactly; RGBA8 stores k / 255 and gives it back as a float.
+    Texture depth = Texture::create2D(4, 2, Format::DEPTH32F);
+    Image depthImage(4, 2, 1);
+    depthImage.data = randomValues(depthImage.data.size(), 41);
+    uploadTexture(depth, 0, 0, depthImage);
+    EXPECT_EQ(readTextureLevel(depth).data, depthImage.data);
+    Texture bytes = Texture::create2D(4, 2, Format::RGBA8);
+    Image byteImage(4, 2, 4);
+    for (size_t i = 0; i < byteImage.data.size(); ++i) byteImage.data[i] = float(i * 7 % 256) / 255.0f;
+    uploadTexture(bytes, 0, 0, byteImage);
+    Image byteGot = readTextureLevel(bytes);
+    for (size_t i = 0; i < byteImage.data.size(); ++i) ASSERT_NEAR(byteGot.data[i], byteImage.data[i], 1e-6f) << i;
 }
 
 // ---- array layers through framebuffers ---------------------------------------------------------
