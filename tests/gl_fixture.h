@@ -1,11 +1,13 @@
 // A headless EGL context for tests that render in-process. Every GL error reported through
-// KHR_debug during a test fails it (TearDown checks the count).
+// KHR_debug during a test fails it (TearDown checks the count), and so does setting a uniform that
+// no stage of the program declares (the uniform name check is on for every GL test).
 #pragma once
 #include <gtest/gtest.h>
 
 #include <memory>
 
 #include "gl_context.h"
+#include "gl_program.h"
 
 namespace shadowlab::testing {
 
@@ -13,6 +15,7 @@ class GLTest : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         if (!context()) context() = createHeadlessContext(GLBackend::Egl);
+        setUniformNameCheck(true);
     }
     void SetUp() override { errorsBefore_ = glDebugState().errors; }
     void TearDown() override {

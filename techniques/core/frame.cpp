@@ -4,18 +4,6 @@
 
 namespace shadowlab {
 
-const ShaderProgram& ProgramCache::get(const std::string& vertex, const std::string& fragment,
-                                       const std::vector<std::string>& defines, const std::string& geometry) {
-    std::string key = vertex + "|" + fragment + "|" + geometry;
-    for (const std::string& d : defines) key += "|" + d;
-    auto it = programs_.find(key);
-    if (it != programs_.end()) return *it->second;
-    auto program = std::make_unique<ShaderProgram>(vertex, fragment, defines, geometry);
-    const ShaderProgram& ref = *program;
-    programs_[key] = std::move(program);
-    return ref;
-}
-
 PassContext::PassContext(FrameState& frame, LightState* light, ResourcePool& pool, std::string passName,
                          std::set<std::string> declared)
     : frame_(frame), light_(light), pool_(pool), passName_(std::move(passName)), declared_(std::move(declared)) {}

@@ -19,17 +19,6 @@
 
 namespace shadowlab {
 
-// Compiled programs, built on first use.
-class ProgramCache {
-public:
-    const ShaderProgram& get(const std::string& vertex, const std::string& fragment,
-                             const std::vector<std::string>& defines = {}, const std::string& geometry = "");
-    size_t size() const { return programs_.size(); }
-
-private:
-    std::map<std::string, std::unique_ptr<ShaderProgram>> programs_;
-};
-
 // G-buffer from the camera (DESIGN.md section 3). position: xyz world, w = 1 on geometry and 0 on
 // background; normal: xyz unit world normal, w = 1 when the object receives shadows; material:
 // albedo rgb, object id in a (-1 on background); depth: camera depth (and stencil).

@@ -6,10 +6,13 @@
 
 #include <cstdio>
 #include <cstring>
+#include <map>
+#include <memory>
 #include <vector>
 
 #include "error.h"
 #include "gl_loader.h"
+#include "gl_program.h"
 
 namespace shadowlab {
 
@@ -63,11 +66,62 @@ static void checkVersion() {
     }
 }
 
-void initializeGLForCurrentContext(void* (*loader)(const char*)) {
+static void initializeGL(void* (*loader)(const char*)) {
     loadGLFunctions(loader);
     if (!glGetString || !glDebugMessageCallback) throw InternalError("cannot load OpenGL functions");
     checkVersion();
     installGLDebugCallback();
+}
+
+// ---- objects owned per context ---------------------------------------------------------------------
+// Keyed by the GLContext (or, for a context made elsewhere, by a token of its own). The map is
+// never destroyed: entries go with their context, and an external context's entry may outlive it
+// only until the process ends, when no destructor must call GL.
+namespace {
+struct ContextObjects {
+    ProgramCache programs;
+};
+std::map<const void*, std::unique_ptr<ContextObjects>>& contextObjects() {
+    static auto* objects = new std::map<const void*, std::unique_ptr<ContextObjects>>();
+    return *objects;
+}
+thread_local const void* t_currentContext = nullptr;
+const void* t_externalContext = nullptr;
+}  // namespace
+
+ProgramCache& programCache() {
+    if (!t_currentContext) throw InternalError("programCache(): no GL context is current on this thread");
+    std::unique_ptr<ContextObjects>& objects = contextObjects()[t_currentContext];
+    if (!objects) objects = std::make_unique<ContextObjects>();
+    return objects->programs;
+}
+
+void GLContext::markCurrent() { t_currentContext = this; }
+
+void GLContext::releaseContextObjects(bool isCurrent) {
+    auto it = contextObjects().find(this);
+    if (it != contextObjects().end()) {
+        // Without the context current its objects cannot be deleted: leak them rather than delete
+        // names of whichever context is current.
+        if (!isCurrent) (void)it->second.release();
+        contextObjects().erase(it);
+    }
+    if (t_currentContext == this) t_currentContext = nullptr;
+}
+
+void initializeGLForCurrentContext(void* (*loader)(const char*)) {
+    initializeGL(loader);
+    static char tokens[64];  // distinct keys for successive external contexts
+    static int next = 0;
+    t_externalContext = &tokens[next++ % 64];
+    t_currentContext = t_externalContext;
+}
+
+void releaseExternalContextObjects() {
+    if (!t_externalContext) return;
+    contextObjects().erase(t_externalContext);
+    if (t_currentContext == t_externalContext) t_currentContext = nullptr;
+    t_externalContext = nullptr;
 }
 
 // ---- EGL surfaceless ---------------------------------------------------------------------------
@@ -126,9 +180,11 @@ public:
         context_ = createContext(display_, count > 0 ? config : EGLConfig(nullptr), EGL_NO_CONTEXT, contextAttribs);
         if (context_ == EGL_NO_CONTEXT) throw InternalError("EGL: cannot create an OpenGL 4.5 core context");
         makeCurrent();
-        initializeGLForCurrentContext(eglLoader);
+        initializeGL(eglLoader);
     }
     ~EglContext() override {
+        releaseContextObjects(context_ != EGL_NO_CONTEXT &&
+                              makeCurrent_(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_));
         if (display_ != EGL_NO_DISPLAY) {
             makeCurrent_(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
             if (context_ != EGL_NO_CONTEXT) destroyContext_(display_, context_);
@@ -138,6 +194,7 @@ public:
     void makeCurrent() override {
         if (!makeCurrent_(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
             throw InternalError("EGL: eglMakeCurrent (surfaceless) failed");
+        markCurrent();
     }
 
 private:
@@ -190,15 +247,17 @@ public:
         context_ = create(attribs, nullptr);
         if (!context_) throw InternalError("OSMesa: cannot create an OpenGL 4.5 core context");
         makeCurrent();
-        initializeGLForCurrentContext(osmesaLoader);
+        initializeGL(osmesaLoader);
     }
     ~OSMesaGLContext() override {
+        releaseContextObjects(context_ && makeCurrent_(context_, buffer_.data(), GL_UNSIGNED_BYTE, 4, 4));
         if (context_ && destroy_) destroy_(context_);
     }
     void makeCurrent() override {
         // OSMesa needs a colour buffer even though everything renders into FBOs.
         if (!makeCurrent_(context_, buffer_.data(), GL_UNSIGNED_BYTE, 4, 4))
             throw InternalError("OSMesa: OSMesaMakeCurrent failed");
+        markCurrent();
     }
 
 private:

@@ -30,6 +30,12 @@ public:
     bool isSoftwareRasterizer() const;
 
 protected:
+    // Subclasses call these: makeCurrent() records the context as current on this thread (the key
+    // of programCache()); the destructor, with the context still current, destroys the objects the
+    // context owns (its ProgramCache) before the context goes.
+    void markCurrent();
+    void releaseContextObjects(bool isCurrent);  // not current: the objects are leaked, not deleted
+
     GLBackend backend_ = GLBackend::Egl;
 };
 
@@ -37,8 +43,12 @@ protected:
 // Throws InternalError with the reason when the platform cannot give OpenGL 4.5 core.
 std::unique_ptr<GLContext> createHeadlessContext(GLBackend backend);
 
-// For contexts made elsewhere (GLFW): loads GL functions through `loader`, installs debug output.
+// For contexts made elsewhere (GLFW): loads GL functions through `loader`, installs debug output,
+// and makes the current context the key of programCache() from now on on this thread. Its cache
+// lives until releaseExternalContextObjects() (call it before destroying that context) or the end
+// of the process (then it is never destroyed: no GL call runs after the context is gone).
 void initializeGLForCurrentContext(void* (*loader)(const char*));
+void releaseExternalContextObjects();
 
 GLBackend parseBackend(const std::string& name);  // "egl" | "osmesa"; InputError otherwise
 

@@ -51,9 +51,10 @@ void GpuScene::draw(const ShaderProgram& program, double t, bool castersOnly) co
         if (castersOnly && !object.castsShadows) continue;
         if (meshes_[i].indexCount == 0) continue;
         program.set("worldFromObject", object.worldFromObjectAt(t));
-        program.set("albedo", object.albedo);
-        program.set("objectId", float(object.id));
-        program.set("receivesShadows", object.receivesShadows ? 1.0f : 0.0f);
+        // The material uniforms only where the program declares them (not the shadow-depth program).
+        if (program.declares("albedo")) program.set("albedo", object.albedo);
+        if (program.declares("objectId")) program.set("objectId", float(object.id));
+        if (program.declares("receivesShadows")) program.set("receivesShadows", object.receivesShadows ? 1.0f : 0.0f);
         glBindVertexArray(meshes_[i].vao);
         glDrawElements(GL_TRIANGLES, meshes_[i].indexCount, GL_UNSIGNED_INT, nullptr);
     }

@@ -109,7 +109,7 @@ private:
     const Scene& scene_;
     RenderOptions options_;
     std::unique_ptr<GpuScene> gpu_;
-    ProgramCache programs_;
+    ProgramCache& programs_ = programCache();  // the current GL context's: switching technique compiles nothing twice
     FrameState frame_;
     ResourcePool pool_;
     Texture white_;  // 1x1 visibility 1, for lights that cast no shadow

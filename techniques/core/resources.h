@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "gl_shim.h"
 #include "gl_util.h"
 #include "image.h"
 
