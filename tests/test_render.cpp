@@ -476,3 +476,36 @@ TEST_F(HardCases, LightInsideGeometry) {
 
 }  // namespace
 }  // namespace shadowlab
+
+namespace shadowlab {
+namespace {
+// The G-buffer carries depth and stencil (DEPTH32F_STENCIL8): the stencil is cleared to 0 each
+// frame for shadow-volume counts, and the depth is 1 exactly on background pixels.
+TEST_F(RenderTest, GBufferHasDepthAndStencil) {
+    Scene scene = loadScene("square-occluder");
+    RenderOptions options;
+    options.width = options.height = 48;
+    options.technique = "hard";
+    Renderer renderer(scene, options);
+    renderer.renderFrame(0, {"gbuffer"});
+    const Texture& depth = renderer.pool().find("frame/gbuffer.depth")->texture;
+    EXPECT_EQ(depth.textureFormat(), Format::DEPTH32F_STENCIL8);
+    std::vector<uint8_t> stencil = readStencil(depth);
+    ASSERT_EQ(stencil.size(), 48u * 48u);
+    for (uint8_t s : stencil) ASSERT_EQ(s, 0);
+    Image z = readTextureLevel(depth, 0);
+    Image ids = renderer.ids();
+    size_t geometry = 0;
+    for (size_t i = 0; i < z.pixelCount(); ++i) {
+        bool background = ids.data[i] < 0.0f;
+        if (background) EXPECT_EQ(z.data[i], 1.0f);
+        else {
+            EXPECT_LT(z.data[i], 1.0f);
+            EXPECT_GT(z.data[i], 0.0f);
+            ++geometry;
+        }
+    }
+    EXPECT_GT(geometry, 1000u);
+}
+}  // namespace
+}  // namespace shadowlab

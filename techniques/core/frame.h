@@ -21,7 +21,7 @@ namespace shadowlab {
 
 // G-buffer from the camera (DESIGN.md section 3). position: xyz world, w = 1 on geometry and 0 on
 // background; normal: xyz unit world normal, w = 1 when the object receives shadows; material:
-// albedo rgb, object id in a (-1 on background); depth: camera depth (and stencil).
+// albedo rgb, object id in a (-1 on background); depth: camera depth and stencil (DEPTH32F_STENCIL8).
 struct GBuffer {
     int width = 0, height = 0;
     const Texture* position = nullptr;

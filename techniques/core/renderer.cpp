@@ -157,7 +157,8 @@ void Renderer::allocateFrameResources() {
     frame_.gbuffer.position = tex("gbuffer.position", Format::RGBA32F, "world position xyz; w = 1 on geometry, 0 on background");
     frame_.gbuffer.normal = tex("gbuffer.normal", Format::RGBA32F, "unit world normal xyz; w = 1 when the object receives shadows");
     frame_.gbuffer.material = tex("gbuffer.material", Format::RGBA32F, "albedo rgb; a = object id (-1 on background)");
-    frame_.gbuffer.depth = tex("gbuffer.depth", Format::DEPTH32F, "camera depth");
+    frame_.gbuffer.depth = tex("gbuffer.depth", Format::DEPTH32F_STENCIL8,
+                               "camera depth and an 8-bit stencil (cleared to 0; for shadow-volume counts)");
     const Texture* visibility = tex("visibility", Format::R32F, "the frame's visibility v, combined over the lights");
     const Texture* image = tex("image", Format::RGBA32F, "the shaded image, linear RGB");
     gbufferFbo_ = Framebuffer({frame_.gbuffer.position, frame_.gbuffer.normal, frame_.gbuffer.material}, frame_.gbuffer.depth);
@@ -197,7 +198,7 @@ void Renderer::buildGraph() {
         glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 1, zero);
         glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 2, background);
-        glClearNamedFramebufferfv(gbufferFbo_.id(), GL_DEPTH, 0, &one);
+        glClearNamedFramebufferfi(gbufferFbo_.id(), GL_DEPTH_STENCIL, 0, one, 0);
         ctx.drawScene(program, false);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     });
