@@ -23,6 +23,7 @@
 
 #include "error.h"
 #include "frame.h"
+#include "cli_run.h"
 #include "gl_fixture.h"
 #include "image.h"
 #include "pass_graph.h"
@@ -39,23 +40,8 @@ namespace {
 using testing::GLTest;
 
 // ---- helpers --------------------------------------------------------------------------------------
-struct CliResult {
-    int code = -1;
-    std::string output;  // stdout and stderr
-};
-
-CliResult runCli(const std::string& arguments) {
-    std::string command = std::string(SHADOWLAB_BINARY) + " " + arguments + " 2>&1";
-    CliResult r;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return r;
-    char buffer[4096];
-    size_t n;
-    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-    int status = pclose(pipe);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using CliResult = test::Result;
+CliResult runCli(const std::string& arguments) { return test::run(arguments); }
 
 // Runs the commands two at a time (the machine has two cores); results in order.
 std::vector<CliResult> runCliParallel(const std::vector<std::string>& commands) {

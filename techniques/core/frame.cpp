@@ -93,9 +93,9 @@ std::string PassContext::paramChoice(const std::string& key) {
 bool PassContext::applies(const std::string& condition) {
     if (condition.empty()) return true;
     if (!light_) throw InternalError("frame pass '" + passName_ + "' evaluated a parameter condition");
-    for (const ParamDesc& p : light_->desc->params)
-        if (condition.find(p.key) != std::string::npos) need("param:" + p.key);
-    return Condition(condition, *light_->desc, passName_).holds(light_->params);
+    Condition parsed(condition, *light_->desc, passName_);
+    for (const std::string& key : parsed.keys()) need("param:" + key);
+    return parsed.holds(light_->params);
 }
 
 Resource& PassContext::resource(const std::string& name) {

@@ -89,7 +89,6 @@ public:
     double time() const { return frame_.time; }
     int width() const { return frame_.width; }
     int height() const { return frame_.height; }
-    size_t programCount() const { return programs_.size(); }
 
 private:
     struct LightSlot {

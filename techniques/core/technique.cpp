@@ -108,6 +108,12 @@ Condition::Condition(const std::string& text, const TechniqueDesc& desc, const s
     }
 }
 
+std::vector<std::string> Condition::keys() const {
+    std::vector<std::string> out;
+    for (const Term& t : terms_) out.push_back(t.key);
+    return out;
+}
+
 bool Condition::holds(const ParamValues& values) const {
     for (const Term& t : terms_) {
         double v = values.get(t.key);

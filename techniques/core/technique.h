@@ -48,6 +48,7 @@ public:
     Condition(const std::string& text, const TechniqueDesc& desc, const std::string& where);
     bool holds(const ParamValues& values) const;
     bool always() const { return terms_.empty(); }
+    std::vector<std::string> keys() const;  // the parameters it reads
     const std::string& text() const { return text_; }
 
 private:
