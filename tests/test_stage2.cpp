@@ -557,6 +557,45 @@ TEST(Stage2Stats, StaticSceneReportsCostSeparatelyFromFrameTime) {
                 shadow, fixed);
 }
 
+// frameCost (frame_stats.h) is what --stats and the bench report: a hand-made graph with known
+// times per frame gives known medians and the shadow/fixed split by technique.
+TEST(Stage2Stats, FrameCostSplitsNeededPassesByTechnique) {
+    EXPECT_DOUBLE_EQ(medianMs({}), 0.0);
+    EXPECT_DOUBLE_EQ(medianMs({3.0, 1.0, 2.0}), 2.0);
+    EXPECT_DOUBLE_EQ(medianMs({4.0, 1.0, 2.0, 3.0}), 2.5);
+    PassGraph graph;
+    graph.setSource("camera", 1);
+    graph.setSource("light", 1);
+    std::string current;
+    auto pass = [&](const std::string& name) { return [&current, name] { current = name; }; };
+    graph.addPass("gbuffer", "frame", "", {"camera"}, {"gbuffer"}, {}, pass("gbuffer"));
+    graph.addPass("L0/pcf/shadow_map", "L0", "pcf", {"light"}, {"L0/pcf/depth"}, {}, pass("L0/pcf/shadow_map"));
+    graph.addPass("L0/pcf/filter", "L0", "pcf", {"gbuffer", "L0/pcf/depth"}, {"L0/visibility"}, {}, pass("L0/pcf/filter"));
+    graph.addPass("unused", "L0", "pcf", {"light"}, {"L0/other"}, {}, pass("unused"));
+    // Scripted times per frame (frame 0 is the warm-up the cost leaves out).
+    std::map<std::string, std::vector<double>> ms{{"gbuffer", {9.0, 1.0, 2.0, 3.0}},
+                                                  {"L0/pcf/shadow_map", {50.0, 4.0, 4.0, 3.0}},
+                                                  {"L0/pcf/filter", {70.0, 7.0, 5.0, 6.0}},
+                                                  {"unused", {100.0, 100.0, 100.0, 100.0}}};
+    for (int frame = 0; frame < 4; ++frame) {
+        graph.measureCost({"L0/visibility"}, frame, [&](const std::function<void()>& run) {
+            run();
+            return ms.at(current)[size_t(frame)];
+        });
+    }
+    FrameCost c = frameCost(graph, {"gbuffer", "L0/pcf/shadow_map", "L0/pcf/filter"}, 1);
+    EXPECT_DOUBLE_EQ(c.fixedMs, 2.0);
+    EXPECT_DOUBLE_EQ(c.shadowMs, 4.0 + 6.0);
+    EXPECT_DOUBLE_EQ(c.costMs(), 12.0);
+    EXPECT_DOUBLE_EQ(c.passMs("L0/pcf/filter"), 6.0);
+    EXPECT_DOUBLE_EQ(c.passMs("unused"), 0.0) << "a pass that never ran costs nothing";
+    EXPECT_DOUBLE_EQ(c.passMs("absent"), 0.0);
+    ASSERT_EQ(c.passes.size(), 4u);
+    EXPECT_FALSE(c.passes[0].isShadow());
+    EXPECT_TRUE(c.passes[1].isShadow());
+    EXPECT_FALSE(c.passes[3].needed);
+}
+
 // ==== 4. reuse checks ===============================================================================
 TEST(Stage2Reuse, CheckReusePassesOnEveryTechniqueAndScene) {
     std::string dir = tmpDir();
