@@ -131,6 +131,11 @@ void addImagePanel(vtkRenderer* renderer, vtkImageData* image, const std::string
 void addImagePanelWithBar(VtkOffscreen& out, vtkImageData* image, const std::string& array, vtkLookupTable* lut,
                           const std::string& title, const std::string& barTitle, double x0, double y0, double x1,
                           double y1);
+// A pyramid as a stack of levels in 3D (level 0 at the bottom, level k scaled by 2^k so each covers
+// the same footprint), one colour scale over all levels with its bar, above the frame's y0.
+// Returns the colour range (channel 0).
+std::pair<float, float> addPyramidStack(VtkOffscreen& out, const std::vector<Image>& levels, const std::string& channel,
+                                        const std::string& title, double y0, float zoom = 1.0f);
 // Lines (pairs of points) as a 2D-overlay actor in world coordinates of an image panel, z above it.
 vtkSmartPointer<vtkActor> lineActor(const std::vector<std::pair<glm::vec3, glm::vec3>>& lines, glm::vec3 rgb,
                                     float width);

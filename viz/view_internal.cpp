@@ -5,7 +5,11 @@
 // covers the 2^k x 2^k texels of level 0 it summarises.
 #include <vtkActor.h>
 #include <vtkCamera.h>
+#include <vtkCellData.h>
+#include <vtkDataSetMapper.h>
+#include <vtkFloatArray.h>
 #include <vtkImageActor.h>
+#include <vtkProperty.h>
 #include <vtkImageData.h>
 #include <vtkImageMapToColors.h>
 #include <vtkImageMapper3D.h>
@@ -63,19 +67,77 @@ std::string refusal(const Renderer& renderer, const ViewRequest& request) {
     return "";
 }
 
-// One image level as colours, placed in 3D: texel (i, j) of level k at ((i + 0.5) 2^k - 0.5, ..., z).
-vtkSmartPointer<vtkImageActor> levelActor(vtkImageData* image, vtkLookupTable* lut, double scale, double z) {
-    vtkNew<vtkImageMapToColors> colours;
-    colours->SetInputData(image);
-    colours->SetLookupTable(lut);
-    colours->SetOutputFormatToRGB();
-    auto actor = vtkSmartPointer<vtkImageActor>::New();
-    actor->GetMapper()->SetInputConnection(colours->GetOutputPort());
-    actor->InterpolateOff();
-    actor->SetScale(scale, scale, 1.0);
-    actor->SetPosition(0.5 * scale - 0.5, 0.5 * scale - 0.5, z);
+
+}  // namespace
+
+// One level as a grid of cells, one per texel (so a 1x1 level is a full square): texel (i, j) of
+// level k covers [i 2^k, (i + 1) 2^k] x [j 2^k, (j + 1) 2^k] of level 0's texels, at height z.
+static vtkSmartPointer<vtkActor> levelActor(const Image& level, vtkLookupTable* lut, double scale, double z) {
+    vtkNew<vtkImageData> grid;
+    grid->SetDimensions(level.width + 1, level.height + 1, 1);
+    grid->SetSpacing(scale, scale, 1.0);
+    grid->SetOrigin(-0.5, -0.5, z);
+    vtkNew<vtkFloatArray> values;
+    values->SetName("value");
+    values->SetNumberOfTuples(vtkIdType(level.pixelCount()));
+    for (int y = 0; y < level.height; ++y)
+        for (int x = 0; x < level.width; ++x) {
+            float v = level.at(x, level.height - 1 - y, 0);  // cell row j counts from the bottom
+            values->SetValue(vtkIdType(y) * level.width + x, std::isfinite(v) ? v : NAN);
+        }
+    grid->GetCellData()->SetScalars(values);
+    vtkNew<vtkDataSetMapper> mapper;
+    mapper->SetInputData(grid);
+    mapper->SetLookupTable(lut);
+    mapper->SetScalarModeToUseCellData();
+    mapper->UseLookupTableScalarRangeOn();
+    auto actor = vtkSmartPointer<vtkActor>::New();
+    actor->SetMapper(mapper);
+    actor->GetProperty()->LightingOff();
     return actor;
 }
+
+std::pair<float, float> addPyramidStack(VtkOffscreen& out, const std::vector<Image>& levels, const std::string& channel,
+                                        const std::string& title, double y0, float zoom) {
+    // Channel 0 of every level, one colour scale for all of them.
+    float lo = INFINITY, hi = -INFINITY;
+    for (const Image& level : levels) {
+        auto [a, b] = finiteRange(level, 0);
+        lo = std::min(lo, a);
+        hi = std::max(hi, b);
+    }
+    auto lut = sequentialLut(lo, hi);
+    vtkRenderer* r = out.addRenderer();
+    r->SetViewport(0.0, y0, 0.84, 1.0);
+    r->SetBackground(0.12, 0.12, 0.14);
+    const double w0 = levels[0].width, h0 = levels[0].height;
+    const double gap = 0.18 * std::max(w0, h0);
+    for (size_t k = 0; k < levels.size(); ++k) {
+        r->AddActor(levelActor(levels[k], lut, w0 / levels[k].width, double(k) * gap));
+    }
+    vtkCamera* camera = r->GetActiveCamera();
+    const double cx = w0 * 0.5 - 0.5, cy = h0 * 0.5 - 0.5, cz = 0.5 * gap * double(levels.size() - 1);
+    camera->SetFocalPoint(cx, cy, cz);
+    camera->SetPosition(cx + 0.9 * w0, cy - 1.6 * h0, cz + 1.1 * std::max(w0, h0));
+    camera->SetViewUp(0, 0, 1);
+    r->ResetCamera();
+    camera->Zoom(0.95 * zoom);
+    r->ResetCameraClippingRange();
+    r->AddActor2D(titleActor(title + ": " + std::to_string(levels.size()) + " levels, level 0 (" +
+                                 std::to_string(levels[0].width) + "x" + std::to_string(levels[0].height) +
+                                 ") at the bottom",
+                             out.height()));
+    vtkRenderer* side = out.addRenderer();
+    side->SetViewport(0.84, y0, 1.0, 1.0);
+    side->SetBackground(0.12, 0.12, 0.14);
+    auto bar = colourBar(lut, channel);
+    bar->SetPosition(0.05, 0.08);
+    bar->SetPosition2(0.9, 0.84);
+    side->AddActor2D(bar);
+    return {lo, hi};
+}
+
+namespace {
 
 void build(ViewContext& ctx, ViewResult& result) {
     const LightState& l = ctx.light();
@@ -103,42 +165,7 @@ void build(ViewContext& ctx, ViewResult& result) {
     for (const Image& level : levels) images.push_back(toImageData(level, names));
 
     if (desc.kind == InternalDesc::Kind::Pyramid) {
-        // Channel 0 of every level, one colour scale for all of them.
-        float lo = INFINITY, hi = -INFINITY;
-        for (const Image& level : levels) {
-            auto [a, b] = finiteRange(level, 0);
-            lo = std::min(lo, a);
-            hi = std::max(hi, b);
-        }
-        auto lut = sequentialLut(lo, hi);
-        vtkRenderer* r = ctx.out.addRenderer();
-        r->SetViewport(0.0, strip, 0.84, 1.0);
-        r->SetBackground(0.12, 0.12, 0.14);
-        const double w0 = levels[0].width, h0 = levels[0].height;
-        const double gap = 0.18 * std::max(w0, h0);
-        for (size_t k = 0; k < levels.size(); ++k) {
-            images[k]->GetPointData()->SetActiveScalars(names[0].c_str());
-            r->AddActor(levelActor(images[k], lut, w0 / levels[k].width, double(k) * gap));
-        }
-        vtkCamera* camera = r->GetActiveCamera();
-        const double cx = w0 * 0.5, cy = h0 * 0.5, cz = 0.5 * gap * double(levels.size() - 1);
-        camera->SetFocalPoint(cx, cy, cz);
-        camera->SetPosition(cx + 0.9 * w0, cy - 1.6 * h0, cz + 1.1 * std::max(w0, h0));
-        camera->SetViewUp(0, 0, 1);
-        r->ResetCamera();
-        camera->Zoom(1.2 * ctx.request.zoom);
-        r->ResetCameraClippingRange();
-        r->AddActor2D(titleActor(name + ": " + std::to_string(levels.size()) + " levels, level 0 (" +
-                                     std::to_string(levels[0].width) + "x" + std::to_string(levels[0].height) +
-                                     ") at the bottom",
-                                 ctx.request.height));
-        vtkRenderer* side = ctx.out.addRenderer();
-        side->SetViewport(0.84, strip, 1.0, 1.0);
-        side->SetBackground(0.12, 0.12, 0.14);
-        auto bar = colourBar(lut, names[0]);
-        bar->SetPosition(0.05, 0.08);
-        bar->SetPosition2(0.9, 0.84);
-        side->AddActor2D(bar);
+        auto [lo, hi] = addPyramidStack(ctx.out, levels, names[0], name, strip, ctx.request.zoom);
         data["range"] = {lo, hi};
     } else {
         nlohmann::json ranges = nlohmann::json::array();

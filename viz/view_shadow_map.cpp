@@ -126,8 +126,8 @@ void build(ViewContext& ctx, ViewResult& result) {
         main->AddActor(lineActor(texelLines, kTexelRgb, 2.0f));
         side->SetViewport(mapRight, strip, 1.0, strip + (1.0 - strip) * 0.3);
         bar->SetOrientationToHorizontal();
-        bar->SetPosition(0.06, 0.12);
-        bar->SetPosition2(0.88, 0.6);
+        bar->SetPosition(0.06, 0.3);
+        bar->SetPosition2(0.88, 0.5);
         // The close-up: the texels read plus a margin of 4 texels.
         vtkRenderer* zoom = ctx.out.addRenderer();
         zoom->SetViewport(mapRight, strip + (1.0 - strip) * 0.3, 1.0, 1.0);

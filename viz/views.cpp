@@ -242,7 +242,7 @@ vtkSmartPointer<vtkScalarBarActor> colourBar(vtkLookupTable* lut, const std::str
     bar->SetLookupTable(lut);
     bar->SetTitle(title.c_str());
     bar->SetNumberOfLabels(5);
-    bar->SetLabelFormat("%-#6.3g");
+    bar->SetLabelFormat("%-#6.4g");
     bar->SetOrientationToVertical();
     bar->SetPosition(0.86, 0.12);
     bar->SetPosition2(0.13, 0.78);
@@ -405,8 +405,11 @@ void writeImageData(vtkImageData* data, const std::string& path) {
 }
 
 // ---- rendering a view --------------------------------------------------------------------------------
+static void checkRequest(const Renderer& renderer, const ViewRequest& request);
+
 std::string viewRefusal(const Renderer& renderer, const ViewRequest& request) {
     const ViewDesc& view = requireView(request.view);
+    checkRequest(renderer, request);
     return view.refusal ? view.refusal(renderer, request) : "";
 }
 

@@ -52,7 +52,8 @@ struct ViewInfo {
 std::vector<ViewInfo> listViews();
 
 // "" when `request.view` applies to the renderer's current technique and request; else the reason.
-// (An unknown view name is an InputError.)
+// An unknown view, a pixel outside the image, an unknown light or a bad ray count or zoom are
+// InputErrors.
 std::string viewRefusal(const Renderer& renderer, const ViewRequest& request);
 
 // Renders the view into a new offscreen VTK frame. Needs the renderer's GL context current (and an
