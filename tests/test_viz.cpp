@@ -362,7 +362,8 @@ TEST_F(VizViewTest, ShadowMapMarksTheTexelsTheTechniqueReadAndExportsTheMap) {
         EXPECT_EQ(rect[0].get<int>() + (technique == "pcf" ? 2 : 0), texel[0].get<int>()) << "kernel centred on the texel";
         EXPECT_GT(distinctColours(result.image), 30u);
         EXPECT_GT(countColour(result.image, {1.0f, 0.2f, 1.0f}, 0.1f), 20) << "the texel's marker (magenta)";
-        EXPECT_GT(countColour(result.image, {1.0f, 0.9f, 0.1f}, 0.1f), 20) << "the texels read (yellow)";
+        if (technique == "pcf")  // (hard reads only the marked texel: its outline hides under the texel's)
+            EXPECT_GT(countColour(result.image, {1.0f, 0.45f, 0.0f}, 0.1f), 20) << "the texels read (orange)";
         EXPECT_GT(countColour(result.image, {0.267f, 0.005f, 0.329f}, 0.06f, 0.62, 1.0), 20) << "the colour bar";
 
         vtkNew<vtkXMLImageDataReader> reader;

@@ -1,6 +1,6 @@
 // `shadow-map`: the light-view depth map a technique rendered (its `shadow_map` internal, or another
 // depth internal named with --internal), colour-mapped with a colour bar; texels with no caster are
-// grey. With --pixel: the receiver's texel (magenta) and the texels its depth tests read (yellow),
+// grey. With --pixel: the receiver's texel (magenta) and the texels its depth tests read (orange),
 // both from the technique's per-pixel record ("shadow_map_texel", "texels_read"), and a close-up of
 // that neighbourhood beside the map.
 #include <vtkActor.h>
@@ -17,7 +17,8 @@ namespace shadowlab {
 
 namespace {
 
-const glm::vec3 kTexelRgb(1.0f, 0.2f, 1.0f), kReadRgb(1.0f, 0.9f, 0.1f);
+// Marker colours outside the viridis map of the depths: magenta and orange.
+const glm::vec3 kTexelRgb(1.0f, 0.2f, 1.0f), kReadRgb(1.0f, 0.45f, 0.0f);
 
 std::string mapName(const ViewRequest& request) { return request.internal.empty() ? "shadow_map" : request.internal; }
 
@@ -88,7 +89,7 @@ void build(ViewContext& ctx, ViewResult& result) {
         auto fmt = [](const nlohmann::json& v) { return v.is_number() ? formatNumber(v.get<double>()) : std::string("none"); };
         char line[400];
         std::snprintf(line, sizeof line,
-                      "pixel (%d, %d): texel (%d, %d) (magenta), receiver z %s, stored z %s; %d texel(s) read (yellow); "
+                      "pixel (%d, %d): texel (%d, %d) (magenta), receiver z %s, stored z %s; %d texel(s) read (orange); "
                       "v = %s",
                       ctx.request.pixel->x, ctx.request.pixel->y, texel.x, texel.y, fmt(record["receiver_depth"]).c_str(),
                       fmt(record["stored_depth"]).c_str(), readCount, fmt(record["visibility"]).c_str());
@@ -126,8 +127,8 @@ void build(ViewContext& ctx, ViewResult& result) {
         main->AddActor(lineActor(texelLines, kTexelRgb, 2.0f));
         side->SetViewport(mapRight, strip, 1.0, strip + (1.0 - strip) * 0.3);
         bar->SetOrientationToHorizontal();
-        bar->SetPosition(0.06, 0.3);
-        bar->SetPosition2(0.88, 0.5);
+        bar->SetPosition(0.12, 0.3);
+        bar->SetPosition2(0.8, 0.5);
         // The close-up: the texels read plus a margin of 4 texels.
         vtkRenderer* zoom = ctx.out.addRenderer();
         zoom->SetViewport(mapRight, strip + (1.0 - strip) * 0.3, 1.0, 1.0);
