@@ -432,6 +432,37 @@ TEST_F(VizViewTest, PyramidStackDrawsEveryLevelWithOneColourScale) {
     EXPECT_GT(countColour(img, {0.275f, 0.194f, 0.496f}, 0.08f, 0.0, 0.84), 200);
 }
 
+// The window's use: views rendered between frames into one kept VtkOffscreen. The renderer's picture
+// after a view is bit-identical to a fresh renderer's (VTK leaves no GL state the passes depend on),
+// and the kept frame shows each view in turn.
+TEST_F(VizViewTest, ViewsBetweenFramesLeaveTheRendererExactAndReuseOneFrame) {
+    Scene scene = loadScene("square-occluder");
+    Renderer renderer(scene, options("pcf", {{"sm_size", "256"}}));
+    renderer.renderFrame(0, {"image", "visibility"});
+    const Image before = renderer.image();
+    VtkOffscreen out(64, 64);
+    ViewRequest request;
+    request.width = 320;
+    request.height = 240;
+    request.pixel = glm::ivec2(60, 40);
+    std::vector<std::vector<float>> pictures;
+    for (const std::string view : {"scene3d", "shadow-map", "internal", "scene3d"}) {
+        request.view = view;
+        ViewResult result = renderView(renderer, scene, request, out);
+        EXPECT_EQ(out.width(), 320);
+        pictures.push_back(result.image.data);
+        renderer.invalidate();  // every pass runs again, after VTK touched the context
+        renderer.renderFrame(0, {"image", "visibility"});
+        EXPECT_EQ(renderer.image().data, before.data) << "after the " << view << " view";
+    }
+    EXPECT_NE(pictures[0], pictures[1]);
+    EXPECT_NE(pictures[1], pictures[2]);
+    EXPECT_EQ(pictures[0], pictures[3]) << "the same view twice in one frame gives the same picture";
+    Renderer fresh(scene, options("pcf", {{"sm_size", "256"}}));
+    fresh.renderFrame(0, {"image", "visibility"});
+    EXPECT_EQ(fresh.image().data, before.data);
+}
+
 // ---- the command line --------------------------------------------------------------------------------
 // The picked point of scene3d is the G-buffer position `render --positions` writes at that pixel.
 TEST(VizCli, Scene3dPickedPointEqualsRenderPositions) {

@@ -88,10 +88,10 @@ void build(ViewContext& ctx, ViewResult& result) {
     result.data = {{"all", metricsJson(all)}, {"penumbra", metricsJson(pen)}, {"max_abs_error", maxAbs}};
     const double strip = addCaptionStrip(ctx.out, result.caption, true);
     const double scale = maxAbs > 0.0f ? maxAbs : 1.0;
-    addImagePanelWithBar(ctx.out, image, "signed_error", divergingLut(scale), "signed error v - v_ref", "v - v_ref", 0.0,
+    addImagePanelWithBar(ctx.out, image, "signed_error", divergingLut(scale), "signed error v - v_ref", "error", 0.0,
                          strip, 0.5, 1.0);
     addImagePanelWithBar(ctx.out, image, "abs_error", sequentialLut(0.0, scale), "absolute error |v - v_ref|",
-                         "|v - v_ref|", 0.5, strip, 1.0, 1.0);
+                         "|error|", 0.5, strip, 1.0, 1.0);
 
     if (!ctx.request.exportPath.empty()) writeImageData(image, ctx.exportTarget(ctx.request.exportPath));
 }

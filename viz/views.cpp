@@ -194,7 +194,7 @@ static const float kViridis[8][3] = {{0.267f, 0.005f, 0.329f}, {0.275f, 0.194f, 
 // A range to show: a constant image gets a small range around its value (the bar still reads it).
 static void widenRange(double& lo, double& hi) {
     if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0.0, hi = 1.0;
-    const double minWidth = 1e-3 * std::max(1.0, std::max(std::abs(lo), std::abs(hi)));
+    const double minWidth = 1e-2 * std::max(1.0, std::max(std::abs(lo), std::abs(hi)));
     if (hi - lo < minWidth) {
         const double mid = 0.5 * (lo + hi);
         lo = mid - minWidth;
@@ -242,7 +242,7 @@ vtkSmartPointer<vtkScalarBarActor> colourBar(vtkLookupTable* lut, const std::str
     bar->SetLookupTable(lut);
     bar->SetTitle(title.c_str());
     bar->SetNumberOfLabels(5);
-    bar->SetLabelFormat("%-#6.4g");
+    bar->SetLabelFormat("%-#6.3g");
     bar->SetOrientationToVertical();
     bar->SetPosition(0.86, 0.12);
     bar->SetPosition2(0.13, 0.78);
@@ -359,8 +359,8 @@ void addImagePanelWithBar(VtkOffscreen& out, vtkImageData* image, const std::str
     side->SetViewport(split, y0, x1, y1);
     side->SetBackground(0.12, 0.12, 0.14);
     auto bar = colourBar(lut, barTitle);
-    bar->SetPosition(0.05, 0.08);
-    bar->SetPosition2(0.9, 0.84);
+    bar->SetPosition(0.0, 0.08);
+    bar->SetPosition2(0.8, 0.84);
     side->AddActor2D(bar);
 }
 
