@@ -474,8 +474,9 @@ void printUsage() {
         "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png] [--strict]\n"
         "  shadowlab scene --scene S --dump-triangles out.obj [--time t]\n"
         "  shadowlab viz --view V --scene S [--technique T] [--set k=v]... [--pixel x,y] [--internal NAME] [--light N]\n"
-        "                [--size WxH] [--view-size WxH] --out view.png [--export data.vtp|.vti] [--reference v.pfm]\n"
-        "                [--rays M] [--azimuth deg] [--elevation deg] [--zoom z] [--json]");
+        "                [--size WxH] [--view-size WxH] --out view.png [--export data.vtp|.vti]\n"
+        "                [--reference v.pfm | --reference-samples N]"
+        " [--rays M] [--azimuth deg] [--elevation deg] [--zoom z] [--json]");
 }
 
 }  // namespace

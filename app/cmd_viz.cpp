@@ -45,7 +45,7 @@ void checkOutput(const std::string& flag, const std::string& path, const std::st
 int commandViz(const std::vector<std::string>& args) {
     Options opts("viz", args, 1,
                  {"--view", "--scene", "--technique", "--set", "--pixel", "--internal", "--light", "--size",
-                  "--view-size", "--out", "--export", "--reference", "--rays", "--azimuth", "--elevation", "--zoom",
+                  "--view-size", "--out", "--export", "--reference", "--reference-samples", "--rays", "--azimuth", "--elevation", "--zoom",
                   "--light-size"},
                  {"--json"});
     if (!opts.positional().empty()) throw InputError("viz: unexpected argument '" + opts.positional()[0] + "'");
@@ -105,6 +105,11 @@ int commandViz(const std::vector<std::string>& args) {
         request.reference = &reference;
     }
 
+    if (opts.has("--reference-samples")) {
+        if (request.view != "error") throw InputError("--reference-samples: only the error view computes a reference");
+        if (opts.has("--reference")) throw InputError("viz: give --reference FILE or --reference-samples N, not both");
+        request.referenceSamples = opts.getInt("--reference-samples", 0, 1, 65536);
+    }
     Scene scene = loadScene(opts.get("--scene"));
     // VTK needs EGL (or the window's context): it does not mix with OSMesa in one process.
     auto context = createHeadlessContext(GLBackend::Egl);

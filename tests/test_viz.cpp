@@ -37,6 +37,7 @@
 #include "error.h"
 #include "gl_fixture.h"
 #include "gl_loader.h"
+#include "metrics.h"
 #include "renderer.h"
 #include "scene.h"
 #include "view_common.h"
@@ -430,6 +431,35 @@ TEST_F(VizViewTest, PyramidStackDrawsEveryLevelWithOneColourScale) {
     // level 0 (values 0..1: the purple-blue end) is drawn too.
     EXPECT_GT(countColour(img, {0.993f, 0.906f, 0.144f}, 0.06f, 0.0, 0.84), 200);
     EXPECT_GT(countColour(img, {0.275f, 0.194f, 0.496f}, 0.08f, 0.0, 0.84), 200);
+}
+
+// Without a given reference the error view renders `reference` in the renderer's state (here a
+// moved light, set live): its metrics equal those against a `reference` renderer set up the same way.
+TEST_F(VizViewTest, ErrorViewComputesTheReferenceInTheRenderersState) {
+    Scene scene = loadScene("square-occluder");
+    Light moved = scene.lights[0];
+    moved.position += glm::vec3(0.3f, 0.0f, 0.0f);
+    Renderer renderer(scene, options("pcf", {{"sm_size", "256"}}));
+    renderer.setLight(0, moved);
+    ViewRequest request;
+    request.view = "error";
+    request.referenceSamples = 16;
+    ViewResult result = renderView(renderer, scene, request);
+    writePNG(test::testPath("viz", "error.png"), result.image);
+
+    // The reference is independent of the tested technique's parameters: its own defaults but samples.
+    Renderer reference(scene, options("reference", {{"samples", "16"}}));
+    reference.setLight(0, moved);
+    reference.renderFrame(0, {"visibility"});
+    Metrics expected = computeMetrics(renderer.visibility(), reference.visibility());
+    EXPECT_EQ(result.data["all"]["rmse"].get<double>(), expected.rmse);
+    EXPECT_EQ(result.data["all"]["pixels"].get<size_t>(), expected.pixels);
+    EXPECT_GT(expected.rmse, 0.0);
+    EXPECT_NE(result.caption.find("`reference` (16 light samples)"), std::string::npos) << result.caption;
+    // Both colour bars: the diverging one (blue and red ends) left, the sequential one right.
+    EXPECT_GT(countColour(result.image, {0.230f, 0.299f, 0.754f}, 0.06f, 0.3, 0.5), 20);
+    EXPECT_GT(countColour(result.image, {0.706f, 0.016f, 0.150f}, 0.06f, 0.3, 0.5), 20);
+    expectSequentialBar(result.image, 0.8, 1.0);
 }
 
 // The window's use: views rendered between frames into one kept VtkOffscreen. The renderer's picture

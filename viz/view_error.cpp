@@ -32,13 +32,14 @@ nlohmann::json metricsJson(const Metrics& m) {
             {"pixels", m.pixels}};
 }
 
-// The reference of the renderer's current state: the `reference` technique at its default
-// parameters, same size, camera, lights, ambient and time.
-Image computeReference(const Renderer& renderer, const Scene& scene) {
+// The reference of the renderer's current state: the `reference` technique (its default
+// parameters but `samples`), same size, camera, lights, ambient and time.
+Image computeReference(const Renderer& renderer, const Scene& scene, int samples) {
     RenderOptions options;
     options.width = renderer.width();
     options.height = renderer.height();
     options.technique = "reference";
+    if (samples > 0) options.sets.push_back({"samples", std::to_string(samples)});
     Renderer reference(scene, options);
     reference.setCamera(renderer.camera());
     reference.setAmbient(renderer.ambient());
@@ -53,7 +54,7 @@ void build(ViewContext& ctx, ViewResult& result) {
     Image computed;
     const Image* reference = ctx.request.reference;
     if (!reference) {
-        computed = computeReference(ctx.renderer, ctx.scene);
+        computed = computeReference(ctx.renderer, ctx.scene, ctx.request.referenceSamples);
         reference = &computed;
     }
     if (reference->channels != 1)
@@ -83,7 +84,11 @@ void build(ViewContext& ctx, ViewResult& result) {
     auto image = toImageData(errors, {"signed_error", "abs_error", "visibility", "reference"});
 
     result.caption = "error  " + ctx.light().desc->id + " against " +
-                     (ctx.request.reference ? std::string("the given reference") : std::string("`reference` (defaults)")) +
+                     (ctx.request.reference ? std::string("the given reference")
+                                             : "`reference` (" + (ctx.request.referenceSamples > 0
+                                                                      ? std::to_string(ctx.request.referenceSamples)
+                                                                      : std::string("default")) +
+                                                   " light samples)") +
                      "\n" + compareLine("all", all) + "\n" + compareLine("penumbra", pen);
     result.data = {{"all", metricsJson(all)}, {"penumbra", metricsJson(pen)}, {"max_abs_error", maxAbs}};
     const double strip = addCaptionStrip(ctx.out, result.caption, true);
@@ -104,7 +109,7 @@ const ViewDesc& errorView() {
         d.info.name = "error";
         d.info.doc = "signed and absolute error of the visibility against the reference, with colour bars; the caption "
                      "gives compare's RMSE, max, PSNR and SSIM over all pixels and the penumbra";
-        d.info.appliesTo = "every technique (against --reference FILE, else `reference` at its defaults)";
+        d.info.appliesTo = "every technique (against --reference FILE, else `reference` with --reference-samples N)";
         d.info.exportExtension = ".vti";
         d.build = build;
         return d;

@@ -31,8 +31,10 @@ struct ViewRequest {
     float azimuth = 0.0f, elevation = 0.0f, zoom = 1.0f;
     int rays = 64;                     // scene3d: light samples traced from the picked point (1..4096)
     // error: the reference visibility (1 channel, the renderer's size). Null: renderView computes it
-    // with the `reference` technique at its default parameters in the renderer's state.
+    // with the `reference` technique in the renderer's state, with `referenceSamples` light samples
+    // (0: the technique's default, 1024).
     const Image* reference = nullptr;
+    int referenceSamples = 0;
     std::string exportPath;            // the view's data for ParaView (.vtp or .vti, see ViewInfo); "" = none
     OutputSet* outputs = nullptr;      // stages the export files (all-or-nothing); null: written directly
 };
