@@ -226,10 +226,13 @@ void build(ViewContext& ctx, ViewResult& result) {
     };
 
     // Scene meshes, coloured by albedo.
+    // (Sources keep copies of what they draw: a kept VtkOffscreen may re-run them after the scene went.)
+    std::vector<WorldTriangle> triangles = worldTriangles(scene, t, false);
+    std::vector<glm::vec3> albedos;
+    for (const Object& o : scene.objects) albedos.push_back(o.albedo);
     auto meshes = makeSource(
-        [&scene, t](PartBuilder& b) {
-            for (const WorldTriangle& tri : worldTriangles(scene, t, false))
-                b.triangle(tri.a, tri.b, tri.c, scene.objects[size_t(tri.object)].albedo);
+        [triangles, albedos](PartBuilder& b) {
+            for (const WorldTriangle& tri : triangles) b.triangle(tri.a, tri.b, tri.c, albedos[size_t(tri.object)]);
         },
         kSceneMeshes);
     std::vector<Light> lights;

@@ -66,6 +66,9 @@ std::string viewRefusal(const Renderer& renderer, const ViewRequest& request);
 // as <stem>-<k>.vti) through request.outputs when given.
 ViewResult renderView(Renderer& renderer, const Scene& scene, const ViewRequest& request);
 // The same into `out` (resized to the request), kept for a panel: out.texture() holds the picture.
+// The view's pipelines stay in `out` until the next renderView into it (they hold copies of what
+// they draw), so out.renderToTexture() redraws the same picture; call renderView again when the
+// renderer's state, the pixel or the request changed.
 ViewResult renderView(Renderer& renderer, const Scene& scene, const ViewRequest& request, VtkOffscreen& out);
 
 }  // namespace shadowlab
