@@ -65,7 +65,7 @@ public:
 
     // Graph outputs the applicable internals of every light read (request them before writing).
     std::set<std::string> internalRequests(bool withPixelRecords) const;
-    void writeInternals(InternalWriter& out, std::optional<glm::ivec2> pixel);
+    void writeInternals(InternalSink& out, std::optional<glm::ivec2> pixel);
     // frameMs: the frames as run; costFrom: the first frame whose pass times count for cost_ms.
     // (Defined in frame_stats.cpp.)
     nlohmann::json stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom = 1) const;
