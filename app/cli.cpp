@@ -12,6 +12,7 @@
 #include "error.h"
 #include "gl_context.h"
 #include "image.h"
+#include "lesson_cli.h"
 #include "metrics.h"
 #include "provenance.h"
 #include "renderer.h"
@@ -157,7 +158,7 @@ int commandList(const std::vector<std::string>& args) {
         }
         j["scenes"].push_back(s);
     }
-    j["lessons"] = nlohmann::json::array();
+    j["lessons"] = describeLessons();
     j["views"] = nlohmann::json::array();
     if (opts.has("--json")) {
         std::cout << j.dump(2) << "\n";
@@ -178,7 +179,12 @@ int commandList(const std::vector<std::string>& args) {
     for (const auto& s : j["scenes"])
         std::cout << "  " << s["name"].get<std::string>() << "  "
                   << (s.contains("description") ? s["description"].get<std::string>() : s.value("error", "")) << "\n";
-    std::cout << "Lessons\n  (none yet)\n";
+    std::cout << "Lessons\n";
+    for (const auto& l : j["lessons"])
+        std::cout << "  " << l["name"].get<std::string>() << "  "
+                  << (l.contains("title") ? l["title"].get<std::string>() + " (" + std::to_string(l["steps"].get<int>()) + " steps)"
+                                          : l["error"].get<std::string>())
+                  << "\n";
     return 0;
 }
 
@@ -463,7 +469,8 @@ void printUsage() {
         "                   [--gl egl|osmesa]\n"
         "  shadowlab reference --scene S [--samples N | --rays M] --out v.pfm [--size WxH] [--light-size S]\n"
         "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png] [--strict]\n"
-        "  shadowlab scene --scene S --dump-triangles out.obj [--time t]");
+        "  shadowlab scene --scene S --dump-triangles out.obj [--time t]\n"
+        "  shadowlab lesson L --headless --out DIR [--size WxH] | --check   a lesson as PNGs + HTML handout");
 }
 
 }  // namespace
@@ -478,13 +485,14 @@ int runCommandLine(const std::vector<std::string>& args) {
         if (command == "reference") return commandReference(args);
         if (command == "compare") return commandCompare(args);
         if (command == "scene") return commandScene(args);
+        if (command == "lesson") return commandLesson(args);
         if (command == "window") return runWindow(std::vector<std::string>(args.begin() + 1, args.end()));
         if (command == "help" || command == "--help" || command == "-h") {
             printUsage();
             return 0;
         }
         throw InputError("unknown command '" + command +
-                         "' (expected one of: list, render, reference, compare, scene, window, help)");
+                         "' (expected one of: list, render, reference, compare, scene, lesson, window, help)");
     } catch (const InputError& e) {
         std::fprintf(stderr, "shadowlab: %s\n", e.what());
         return 2;

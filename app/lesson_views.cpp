@@ -1,0 +1,89 @@
+// The views of a lesson step, rendered from the renderers' buffers. This is the one place that
+// turns a view name into pictures: when viz/views.h (renderView) lands, the views it renders are
+// called from here.
+#include <algorithm>
+#include <cmath>
+
+#include "error.h"
+#include "gl_texture.h"
+#include "lesson_headless.h"
+#include "metrics.h"
+
+namespace shadowlab {
+
+namespace {
+
+Image grey(const Image& v) {
+    Image out(v.width, v.height, 3);
+    for (size_t i = 0; i < v.pixelCount(); ++i) {
+        float x = std::isfinite(v.data[i]) ? std::clamp(v.data[i], 0.0f, 1.0f) : 0.0f;
+        for (int c = 0; c < 3; ++c) out.data[i * 3 + c] = x;
+    }
+    return out;
+}
+
+// Nearest-neighbour resampling: a small shadow map keeps its texels visible (aliasing).
+Image resampleNearest(const Image& in, int width, int height) {
+    Image out(width, height, in.channels);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            int sx = std::min(in.width - 1, x * in.width / width), sy = std::min(in.height - 1, y * in.height / height);
+            for (int c = 0; c < in.channels; ++c) out.at(x, y, c) = in.at(sx, sy, c);
+        }
+    return out;
+}
+
+// Light-view depth as grey: nearer is darker; no caster (the far marker) is white.
+Image shadowMapView(Renderer& r, int width, int height) {
+    const Resource* map = r.pool().find("L0/shadow_map");
+    if (!map) throw InputError("lesson: the shadow-map view needs a shadow-map technique on light 0");
+    Image depth = readTextureLevel(map->texture, 0);
+    float lo = INFINITY, hi = -INFINITY;
+    for (float z : depth.data)
+        if (z < 1e30f) lo = std::min(lo, z), hi = std::max(hi, z);
+    Image g(depth.width, depth.height, 1);
+    for (size_t i = 0; i < depth.pixelCount(); ++i) {
+        float z = depth.data[i];
+        g.data[i] = z >= 1e30f ? 1.0f : hi > lo ? 0.1f + 0.7f * (z - lo) / (hi - lo) : 0.5f;
+    }
+    return grey(resampleNearest(g, width, height));
+}
+
+// A red ring around the picked pixel, open at the centre so the pixel itself stays visible.
+void markPixel(Image& img, glm::ivec2 p) {
+    for (int dy = -6; dy <= 6; ++dy)
+        for (int dx = -6; dx <= 6; ++dx) {
+            float d = std::sqrt(float(dx * dx + dy * dy));
+            if (d < 3.5f || d > 5.5f) continue;
+            int x = p.x + dx, y = p.y + dy;
+            if (x < 0 || y < 0 || x >= img.width || y >= img.height) continue;
+            img.at(x, y, 0) = 1.0f;
+            img.at(x, y, 1) = 0.1f;
+            img.at(x, y, 2) = 0.1f;
+        }
+}
+
+}  // namespace
+
+Image renderLessonView(RendererLessonHost& host, const std::string& view) {
+    if (view == "technique") {
+        Image img = host.technique().image();
+        if (!host.split().empty()) {
+            // Left half: the technique; right half: what it is compared with; a white seam between.
+            Image other = host.splitRenderer().image();
+            int seam = img.width / 2;
+            for (int y = 0; y < img.height; ++y)
+                for (int x = seam; x < img.width; ++x)
+                    for (int c = 0; c < 3; ++c) img.at(x, y, c) = x == seam ? 1.0f : other.at(x, y, c);
+        }
+        if (auto p = host.pickedPixel()) markPixel(img, *p);
+        return img;
+    }
+    if (view == "visibility") return grey(host.technique().visibility());
+    if (view == "reference") return grey(host.reference().visibility());
+    if (view == "error") return errorHeatmap(host.technique().visibility(), host.reference().visibility());
+    if (view == "shadow-map") return shadowMapView(host.technique(), host.width(), host.height());
+    throw InternalError("renderLessonView: unknown view '" + view + "'");
+}
+
+}  // namespace shadowlab
