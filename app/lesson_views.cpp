@@ -33,19 +33,35 @@ Image resampleNearest(const Image& in, int width, int height) {
     return out;
 }
 
-// Light-view depth as grey: nearer is darker; no caster (the far marker) is white.
+// Light-view depth as grey: nearer is darker; no caster (the far marker) is white. The map is
+// fitted to the whole scene, so the casters may cover a small part of it: the view shows the square
+// around the texels that hold a caster (with a margin of a quarter of its side), each texel as a
+// block of pixels, so aliasing shows texel by texel.
 Image shadowMapView(Renderer& r, int width, int height) {
     const Resource* map = r.pool().find("L0/shadow_map");
     if (!map) throw InputError("lesson: the shadow-map view needs a shadow-map technique on light 0");
     Image depth = readTextureLevel(map->texture, 0);
     float lo = INFINITY, hi = -INFINITY;
-    for (float z : depth.data)
-        if (z < 1e30f) lo = std::min(lo, z), hi = std::max(hi, z);
-    Image g(depth.width, depth.height, 1);
-    for (size_t i = 0; i < depth.pixelCount(); ++i) {
-        float z = depth.data[i];
-        g.data[i] = z >= 1e30f ? 1.0f : hi > lo ? 0.1f + 0.7f * (z - lo) / (hi - lo) : 0.5f;
-    }
+    int x0 = depth.width, y0 = depth.height, x1 = -1, y1 = -1;
+    for (int y = 0; y < depth.height; ++y)
+        for (int x = 0; x < depth.width; ++x) {
+            float z = depth.at(x, y);
+            if (z >= 1e30f) continue;
+            lo = std::min(lo, z), hi = std::max(hi, z);
+            x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+        }
+    if (x1 < 0) x0 = y0 = 0, x1 = depth.width - 1, y1 = depth.height - 1;  // no caster: the whole map
+    int side = std::max(x1 - x0 + 1, y1 - y0 + 1);
+    side = std::min(std::max(depth.width, depth.height), side + side / 2);
+    int cx = (x0 + x1 + 1) / 2, cy = (y0 + y1 + 1) / 2;
+    int sx = std::clamp(cx - side / 2, 0, std::max(0, depth.width - side));
+    int sy = std::clamp(cy - side / 2, 0, std::max(0, depth.height - side));
+    Image g(std::min(side, depth.width), std::min(side, depth.height), 1);
+    for (int y = 0; y < g.height; ++y)
+        for (int x = 0; x < g.width; ++x) {
+            float z = depth.at(sx + x, sy + y);
+            g.at(x, y) = z >= 1e30f ? 1.0f : hi > lo ? 0.1f + 0.7f * (z - lo) / (hi - lo) : 0.5f;
+        }
     return grey(resampleNearest(g, width, height));
 }
 
