@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "error.h"
+#include "views.h"
 
 namespace fs = std::filesystem;
 
@@ -218,8 +219,13 @@ std::pair<std::string, std::string> keyValue(const LessonCommand& c, size_t& i) 
 
 // ---- state ---------------------------------------------------------------------------------------------
 const std::vector<std::string>& lessonViews() {
-    // Each is rendered by renderLessonView() (app/lesson_views.cpp).
-    static const std::vector<std::string> views = {"visibility", "reference", "error", "shadow-map"};
+    // Each is rendered by renderLessonView() (app/lesson_views.cpp): the two visibility buffers,
+    // the shadow map texel by texel around the casters, and every view of viz/ (listViews()).
+    static const std::vector<std::string> views = [] {
+        std::vector<std::string> v = {"visibility", "reference", "shadow-map-texels"};
+        for (const ViewInfo& info : listViews()) v.push_back(info.name);
+        return v;
+    }();
     return views;
 }
 
@@ -592,9 +598,10 @@ void applyStepCommands(LessonStep& step, LessonState& state) {
             applyLessonCommand(state, c);
         }
     }
-    if (state.views.count("shadow-map") && !findTechnique(state.technique)->findInternal("shadow_map"))
-        throw InputError(step.where.str() + ": the shadow-map view is shown but technique " + state.technique +
-                         " has no light-centre shadow map (show it with hard or pcf, or 'hide shadow-map')");
+    for (const char* view : {"shadow-map", "shadow-map-texels"})
+        if (state.views.count(view) && !findTechnique(state.technique)->findInternal("shadow_map"))
+            throw InputError(step.where.str() + ": the " + view + " view is shown but technique " + state.technique +
+                             " has no light-centre shadow map (show it with hard or pcf, or 'hide " + view + "')");
     step.state = state;
     // Animation targets are checked against the step's technique and light.
     if (step.animate) {

@@ -113,7 +113,7 @@ RendererLessonHost::Slot& RendererLessonHost::ensure(Slot& slot) {
         for (const auto& [k, v] : slot.params) slot.renderer->setParam(k, v, -1, "lesson");
     }
     std::set<std::string> requested = {"image", "visibility"};
-    if (&slot == &main_ && views_.count("shadow-map"))
+    if (&slot == &main_ && views_.count("shadow-map-texels"))
         for (const std::string& r : slot.renderer->internalRequests(false))
             if (r.find("/shadow_map") != std::string::npos) requested.insert(r);
     render(*slot.renderer, requested);

@@ -143,7 +143,7 @@ std::string lessonHandoutHtml(const Lesson& lesson, const std::vector<HandoutSte
         h << "<figure><img src=\"" << s.image << "\" " << size << " alt=\"" << htmlEscape(s.caption) << "\"><figcaption>"
           << htmlEscape(s.caption) << "</figcaption></figure>\n";
         for (const auto& [view, file] : s.views)
-            h << "<figure><img src=\"" << file << "\" " << size << " alt=\"" << view << "\"><figcaption>" << view
+            h << "<figure><img src=\"" << file << "\" alt=\"" << view << "\"><figcaption>" << view
               << "</figcaption></figure>\n";
         h << markdownToHtml(s.narration);
         for (const std::string& n : s.notes) h << "<p><code>" << htmlEscape(n) << "</code></p>\n";

@@ -1,6 +1,5 @@
-// The views of a lesson step, rendered from the renderers' buffers. This is the one place that
-// turns a view name into pictures: when viz/views.h (renderView) lands, the views it renders are
-// called from here.
+// The views of a lesson step. This is the one place that turns a view name into pictures: the
+// visibility buffers as grey images here, every other view through viz/views.h (renderView).
 #include <algorithm>
 #include <cmath>
 
@@ -8,6 +7,7 @@
 #include "gl_texture.h"
 #include "lesson_headless.h"
 #include "metrics.h"
+#include "views.h"
 
 namespace shadowlab {
 
@@ -33,7 +33,7 @@ Image resampleNearest(const Image& in, int width, int height) {
     return out;
 }
 
-// Light-view depth as grey: nearer is darker; no caster (the far marker) is white. The map is
+// "shadow-map-texels": light-view depth as grey: nearer is darker; no caster (the far marker) is white. The map is
 // fitted to the whole scene, so the casters may cover a small part of it: the view shows the square
 // around the texels that hold a caster (with a margin of a quarter of its side), each texel as a
 // block of pixels, so aliasing shows texel by texel.
@@ -97,9 +97,21 @@ Image renderLessonView(RendererLessonHost& host, const std::string& view) {
     }
     if (view == "visibility") return grey(host.technique().visibility());
     if (view == "reference") return grey(host.reference().visibility());
-    if (view == "error") return errorHeatmap(host.technique().visibility(), host.reference().visibility());
-    if (view == "shadow-map") return shadowMapView(host.technique(), host.width(), host.height());
-    throw InternalError("renderLessonView: unknown view '" + view + "'");
+    if (view == "shadow-map-texels") return shadowMapView(host.technique(), host.width(), host.height());
+    // The VTK views (viz/): the picked pixel, and the lesson's reference for the error view.
+    ViewRequest request;
+    request.view = view;
+    request.pixel = host.pickedPixel();
+    // VTK views carry captions, colour bars and close-ups: at least 480x360 to stay readable.
+    request.width = std::max(host.width(), 480);
+    request.height = request.width * 3 / 4;
+    Image reference;
+    if (view == "error") {
+        reference = host.reference().visibility();
+        request.reference = &reference;
+    }
+    Renderer& renderer = host.technique();
+    return renderView(renderer, host.scene(), request).image;
 }
 
 }  // namespace shadowlab
