@@ -135,7 +135,8 @@ std::string lessonHandoutHtml(const Lesson& lesson, const std::vector<HandoutSte
          "</style>\n</head>\n<body>\n";
     h << "<h1>" << htmlEscape(lesson.title) << "</h1>\n<p><em>shadowlab lesson <code>" << htmlEscape(lesson.id)
       << "</code> (" << htmlEscape(lesson.file) << "), " << steps.size()
-      << " steps. Open it in the window with <code>shadowlab lesson " << htmlEscape(lesson.id) << "</code>.</em></p>\n";
+      << " steps, rendered by <code>shadowlab lesson " << htmlEscape(lesson.id)
+      << " --headless</code>; every picture is the program's own output.</em></p>\n";
     h << markdownToHtml(lesson.introduction);
     for (size_t k = 0; k < steps.size(); ++k) {
         const HandoutStep& s = steps[k];
