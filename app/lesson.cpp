@@ -465,7 +465,8 @@ TaskCondition::TaskCondition(const std::string& text, const SourceLocation& wher
                     std::string n = m.substr(7);
                     char* end = nullptr;
                     long id = std::strtol(n.c_str(), &end, 10);
-                    if (n.empty() || *end != '\0' || id < 0) fail("object:N needs a whole number N >= 0, got '" + m + "'");
+                    if (n.empty() || *end != '\0' || id < 0 || id > 16777215)
+                        fail("object:N needs a whole number N in [0, 2^24 - 1] (an object id), got '" + m + "'");
                 } else if (m != "all" && m != "lit" && m != "umbra" && m != "penumbra") {
                     fail("unknown mask '" + m + "'");
                 }
@@ -501,16 +502,23 @@ TaskCondition::Outcome TaskCondition::evaluate(const TaskBuffers& b) const {
     for (const Term& term : terms_) {
         double lo = INFINITY, hi = -INFINITY, sum = 0.0;
         size_t count = 0, hits = 0;
+        // object:N masks as ids (-1 for the others).
+        std::vector<int> objectIds;
+        for (const std::string& m : term.masks) objectIds.push_back(m.rfind("object:", 0) == 0 ? std::stoi(m.substr(7)) : -1);
         for (size_t p = 0; p < n; ++p) {
             float id = b.ids.data[p];
             if (id < 0.0f) continue;  // background
             bool inside = true;
-            for (const std::string& m : term.masks) {
-                float r = m == "all" || m.rfind("object:", 0) == 0 ? 0.0f : b.reference.data[p];
-                if (m == "lit") inside = inside && r >= kLitThreshold;
-                else if (m == "umbra") inside = inside && r <= kUmbraThreshold;
-                else if (m == "penumbra") inside = inside && r > kUmbraThreshold && r < kLitThreshold;
-                else if (m != "all") inside = inside && int(id) == std::stoi(m.substr(7));
+            for (size_t k = 0; k < term.masks.size() && inside; ++k) {
+                const std::string& m = term.masks[k];
+                if (objectIds[k] >= 0) {
+                    inside = int(id) == objectIds[k];
+                } else if (m != "all") {
+                    float r = b.reference.data[p];
+                    inside = m == "lit"     ? r >= kLitThreshold
+                             : m == "umbra" ? r <= kUmbraThreshold
+                                            : r > kUmbraThreshold && r < kLitThreshold;
+                }
             }
             if (!inside) continue;
             double v = term.buffer == "visibility" ? b.visibility.data[p]

@@ -82,6 +82,8 @@ TEST(LessonFormat, BrokenSyntaxNamesFileAndLine) {
                   "check");
     expectRefused(withCommands("try Do it.\ncheck mean(shadows) > 0.5\nanswer set pcf_kernel 3"), "lessons/bad.md:12: ",
                   "unknown buffer 'shadows'");
+    expectRefused(withCommands("try Do it.\ncheck mean(visibility in object:99999999999) > 0.5\nanswer set pcf_kernel 3"),
+                  "lessons/bad.md:12: ", "object:N");
     // No title.
     expectRefused("## Step\n", "lessons/bad.md:1: ", "title");
 }
