@@ -625,9 +625,12 @@ TEST(Occlusion, ReceiverPlaneDepthAndTheTest) {
     float ndc = 127.0f / 128.0f * 2.0f - 1.0f;
     EXPECT_NEAR(shared::receiverPlaneDepth(steep, glm::vec3(1, 0, 3), glm::vec2(127, 64), size, tanHalf), 1.0f / (ndc * tanHalf), 1e-5f);
     EXPECT_EQ(shared::receiverPlaneDepth(steep, glm::vec3(1, 0, 3), glm::vec2(10, 64), size, tanHalf), shared::BP_FAR);
-    // The test: nearer than both the receiver and its plane, by the bias.
+    // The test: nearer than the receiver by the bias, and not on the receiver's own plane.
     EXPECT_TRUE(shared::sampleOccludes(1.0f, 3.0f, 5.0f, 0.1f));
-    EXPECT_FALSE(shared::sampleOccludes(2.95f, 3.0f, 5.0f, 0.1f));
-    EXPECT_FALSE(shared::sampleOccludes(2.0f, 3.0f, 2.05f, 0.1f));
+    EXPECT_FALSE(shared::sampleOccludes(2.95f, 3.0f, 5.0f, 0.1f));  // within the bias of p
+    EXPECT_FALSE(shared::sampleOccludes(2.0f, 3.0f, 2.05f, 0.1f));  // on the tangent plane
+    EXPECT_FALSE(shared::sampleOccludes(2.0f, 3.0f, 1.95f, 0.1f));
+    EXPECT_TRUE(shared::sampleOccludes(2.0f, 3.0f, 1.5f, 0.1f));    // behind the plane: a closed object's far side
+    EXPECT_TRUE(shared::sampleOccludes(2.0f, 3.0f, shared::BP_FAR, 0.1f));
     EXPECT_FALSE(shared::sampleOccludes(3.4e38f, 3.0f, shared::BP_FAR, 0.1f));  // no caster
 }

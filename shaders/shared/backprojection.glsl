@@ -102,9 +102,8 @@ SHARED_FN vec3 receiverNormalTowardLight(vec3 normalLight, vec3 receiver) {
     return dot(normalLight, receiver) > 0.0f ? -normalLight : normalLight;
 }
 
-// Depth, along the ray through `texel`, of the receiver's tangent plane (n . (x - p) = 0, n facing
-// the light): BP_FAR when the ray never meets the plane in front of the light. A sample behind that
-// plane cannot lie between p and any light point that p faces, so it never occludes.
+// Depth, along the ray through `texel`, of the receiver's tangent plane (n . (x - p) = 0):
+// BP_FAR when the ray never meets the plane in front of the light.
 SHARED_FN float receiverPlaneDepth(vec3 normalLight, vec3 receiver, vec2 texel, float smSize, float tanHalfFov) {
     vec3 d = texelRay(texel, smSize, tanHalfFov);
     float nd = dot(normalLight, d);
@@ -116,11 +115,14 @@ SHARED_FN float receiverPlaneDepth(vec3 normalLight, vec3 receiver, vec2 texel, 
 }
 
 // A shadow-map sample of depth zSample occludes the receiver at depth zReceiver when it is nearer to
-// the light than both the receiver and the receiver's tangent plane along its ray, by the bias
-// (guennebaud2007 sec. 3: "occluding samples, i.e. samples s for which z_s < z_p"). On the
-// receiver's own ray the plane depth is z_p, so there this is exactly `hard`'s depth test.
+// the light than the receiver by the bias (guennebaud2007 sec. 3: "occluding samples, i.e. samples
+// s for which z_s < z_p") and is not a sample of the receiver's own surface, i.e. not within the
+// bias of the receiver's tangent plane along its ray (zPlane). The second condition replaces the
+// ever-growing bias a tilted receiver would need across a wide kernel; occluders behind the plane
+// (the rest of a closed object, seen at its terminator) still count. On p's own ray the plane depth
+// is z_p, so there this is exactly `hard`'s depth test.
 SHARED_FN bool sampleOccludes(float zSample, float zReceiver, float zPlane, float bias) {
-    return zSample < min(zReceiver, zPlane) - bias;
+    return zSample < zReceiver - bias && abs(zSample - zPlane) > bias;
 }
 
 // What every per-pixel step needs to know of the receiver p.
@@ -151,7 +153,7 @@ SHARED_FN BpReceiver bpReceiver(mat4 lightViewFromWorld, mat4 lightClipFromView,
 // Whether the sample of depth zSample at texel coordinates texelCentre occludes the receiver.
 SHARED_FN bool bpSampleOccludes(BpReceiver r, vec2 texelCentre, float zSample, float smSize, float tanHalfFov) {
     if (zSample >= r.position.z - r.bias) {
-        return false;  // the plane test below could only make it stricter
+        return false;  // the plane test below only adds a condition
     }
     float zPlane = receiverPlaneDepth(r.normal, r.position, texelCentre, smSize, tanHalfFov);
     return sampleOccludes(zSample, r.position.z, zPlane, r.bias);
