@@ -66,6 +66,16 @@ SHARED_FN int hsmRefinementLevel(float kernelTexels, int topLevel) {
     return min(int(floor(log2(kernelTexels))), topLevel);
 }
 
+// Texels across HSM level `level` of a map smSize texels across: level 0 is the map, level 1 has
+// ceil(smSize / 2) texels and each further level half the one before, rounded down (the mip chain of
+// the pyramid texture that holds levels 1, 2, ...).
+SHARED_FN int hsmLevelSize(int level, int smSize) {
+    if (level == 0) {
+        return smSize;
+    }
+    return max(1, ((smSize + 1) / 2) >> (level - 1));
+}
+
 // Level-0 texels overlapped by a kernel of width kernelTexels centred at `centre` (texel
 // coordinates): (x0, y0, x1, y1), inclusive, clamped to the map [0, smSize - 1].
 SHARED_FN ivec4 kernelTexelRange(vec2 centre, float kernelTexels, int smSize) {

@@ -5,6 +5,8 @@
 #include <cfloat>
 #include <cmath>
 
+#include "error.h"
+
 namespace shadowlab {
 
 using namespace shared;
@@ -15,7 +17,8 @@ constexpr float kNoCaster = FLT_MAX;  // shadow_map.cpp's "no caster" marker (ke
 
 // guennebaud2007 sec. 3: "a hierarchical version of the shadow map (HSM) is built from high to low
 // resolution in a similar fashion to mipmapped textures. Each pixel stores both the minimum and
-// maximum covered depth values." Level 0 copies the map; each further level is one dispatch.
+// maximum covered depth values." HSM level 0 is the map itself; the pyramid texture holds levels 1,
+// 2, ... as its mip levels 0, 1, ...; one dispatch per level.
 class HsmPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
@@ -24,7 +27,7 @@ public:
         const ShaderProgram& first = ctx.programs().compute("backprojection/hsm.comp", {"FIRST_LEVEL"});
         glBindTextureUnit(0, map.id());
         first.set("shadowMap", 0);
-        bindImage(1, hsm, 0, GL_WRITE_ONLY);
+        bindImage(1, hsm, 0, GL_WRITE_ONLY);  // HSM level 1
         first.dispatch(GLuint((hsm.width() + 7) / 8), GLuint((hsm.height() + 7) / 8));
         memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         const ShaderProgram& reduce = ctx.programs().compute("backprojection/hsm.comp");
@@ -52,10 +55,13 @@ public:
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "backprojection/kernel.frag");
         program.use();
         const Texture& hsm = ctx.texture("hsm");
-        setReceiverUniforms(ctx, program, hsm.width());
+        const Texture& map = ctx.texture(shadowTestMap(ctx));
+        setReceiverUniforms(ctx, program, map.width());
         glBindTextureUnit(3, hsm.id());
         program.set("hsm", 3);
-        program.set("hsmTopLevel", hsm.levels() - 1);
+        glBindTextureUnit(4, map.id());
+        program.set("shadowMap", 4);
+        program.set("hsmTopLevel", hsm.levels());
         program.set("lightWidthWorld", bpLightWidth(bpLightShape(ctx.light()), ctx.light().size));
         fbo_.bind(ctx.width(), ctx.height());
         drawFullscreenTriangle();
@@ -85,8 +91,9 @@ PassDesc hsmPass() {
     p.name = "hsm";
     p.doc = "hierarchical shadow map: min and max depth pyramid, every level (guennebaud2007 sec. 3)";
     p.reads = shadowTestReads();
-    ResourceDesc hsm = ResourceDesc::texture("hsm", Format::RG32F, SizeRule::shadowMap(),
-                                             "HSM: (min, max) light-view depth over the texels each level's texel covers");
+    ResourceDesc hsm = ResourceDesc::texture("hsm", Format::RG32F, SizeRule::like("shadow_map", 2),
+                                             "HSM levels 1, 2, ... (level 0 is the shadow map): (min, max) light-view "
+                                             "depth over the map texels each texel covers");
     hsm.kind = ResourceKind::Pyramid;
     hsm.levels = 0;
     p.creates = {hsm};
@@ -102,6 +109,7 @@ PassDesc kernelPass() {
     p.doc = "kernel width from the top-level min (eq. 1), refined level by level until it converges; lit / umbra / "
             "penumbra from the kernel's depth bounds (guennebaud2007 sec. 3)";
     p.reads = {"gbuffer", "light", "hsm", "param:bias_const", "param:bias_slope"};
+    for (const std::string& r : shadowTestReads()) p.reads.push_back(r);
     p.creates = {
         ResourceDesc::texture("kernel_size", Format::R32F, SizeRule::frame(),
                               "converged kernel width w_k per pixel, texels (0 when the top level already says lit)"),
@@ -122,7 +130,8 @@ std::vector<InternalDesc> backprojectionInternals() {
     hsm.kind = InternalDesc::Kind::Pyramid;
     hsm.resource = "hsm";
     hsm.channels = {"min", "max"};
-    hsm.doc = "hierarchical shadow map: min and max light-view depth per texel (inf = no caster)";
+    hsm.doc = "hierarchical shadow map levels 1, 2, ... (file level k is HSM level k + 1; HSM level 0 is "
+              "shadow_map): min and max light-view depth per texel (inf = no caster)";
     hsm.convert = farMarkerToInfinity;
     out.push_back(hsm);
     out.push_back({"kernel_size", InternalDesc::Kind::Image, "kernel_size", {"texels"},
@@ -166,8 +175,8 @@ void setReceiverUniforms(PassContext& ctx, const ShaderProgram& program, int smS
 BackprojectionCpu BackprojectionCpu::read(PassContext& ctx) {
     BackprojectionCpu c;
     const Texture& hsm = ctx.texture("hsm");
-    c.size = hsm.width();
-    c.topLevel = hsm.levels() - 1;
+    c.size = ctx.texture(shadowTestMap(ctx)).width();
+    c.topLevel = hsm.levels();
     c.view = ctx.lightView();
     c.lightPosition = ctx.light().position;
     c.shape = bpLightShape(ctx.light());
@@ -176,7 +185,12 @@ BackprojectionCpu BackprojectionCpu::read(PassContext& ctx) {
     c.biasConst = float(ctx.param("bias_const"));
     c.biasSlope = float(ctx.param("bias_slope"));
     c.maxKernel = float(ctx.param("max_kernel"));
-    for (int k = 0; k < hsm.levels(); ++k) c.hsm.push_back(readTextureLevel(hsm, k));
+    for (int k = 0; k < hsm.levels(); ++k) {
+        c.hsm.push_back(readTextureLevel(hsm, k));
+        if (c.hsm.back().width != hsmLevelSize(k + 1, c.size))
+            throw InternalError("hsm level " + std::to_string(k + 1) + " is " + std::to_string(c.hsm.back().width) +
+                                " texels across, hsmLevelSize says " + std::to_string(hsmLevelSize(k + 1, c.size)));
+    }
     c.depth = readTextureLevel(ctx.texture(shadowTestMap(ctx)), 0);
     return c;
 }
@@ -186,8 +200,13 @@ float BackprojectionCpu::depthAt(glm::ivec2 t) const {
     return depth.at(t.x, size - 1 - t.y);
 }
 
+int BackprojectionCpu::levelSize(int level) const {
+    return hsmLevelSize(level, size);
+}
+
 glm::vec2 BackprojectionCpu::hsmAt(int level, glm::ivec2 t) const {
-    const Image& l = hsm[size_t(level)];
+    if (level == 0) return glm::vec2(depthAt(t));
+    const Image& l = hsm[size_t(level - 1)];
     return {l.at(t.x, l.height - 1 - t.y, 0), l.at(t.x, l.height - 1 - t.y, 1)};
 }
 
@@ -211,7 +230,7 @@ KernelResult computeKernel(const BackprojectionCpu& c, const BpReceiver& r) {
     float planeMin = 0.0f;
     for (int step = 0; step < 32; ++step) {  // kernel.frag's kMaxRefinements
         int level = hsmRefinementLevel(w, c.topLevel);
-        int levelSize = std::max(1, c.size >> level);
+        int levelSize = c.levelSize(level);
         glm::ivec4 rangeL = levelTexelRange(kernelTexelRange(r.centre, w, c.size), level, levelSize);
         bounds = glm::vec2(3.4e38f, -3.4e38f);
         for (int y = rangeL.y; y <= rangeL.w; ++y)
@@ -277,6 +296,7 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel) {
     float lightArea = bpLightArea(c.shape);
     if (r.inside == 0.0f) {
         j["classification"] = "lit";
+        j["kernel"] = nullptr;  // outside the light's frustum: lit, as for `hard`
         s.done = true;
         return s;
     }

@@ -14,7 +14,8 @@ namespace shadowlab {
 // Parameters both techniques add to shadowMapParams(): `max_kernel`.
 std::vector<ParamDesc> backprojectionParams();
 
-// Pass "hsm": creates the RG32F pyramid "hsm" (every level) from the shadow map, on the GPU.
+// Pass "hsm": creates the RG32F pyramid "hsm" from the shadow map, on the GPU: HSM levels 1, 2, ...
+// down to 1x1 as its mip levels 0, 1, ... (HSM level 0 is the shadow map itself).
 PassDesc hsmPass();
 // Pass "kernel": creates "kernel_size", "kernel_iterations" and "classification" (frame size).
 PassDesc kernelPass();
@@ -43,13 +44,14 @@ struct BackprojectionCpu {
     float lightWidth = 0.0f;     // bounding width in world units (eq. 1's w_l)
     float lightHalfSize = 0.0f;  // unit of light coordinates
     float biasConst = 0.0f, biasSlope = 0.0f, maxKernel = 0.0f;
-    std::vector<Image> hsm;  // level k: RG, row 0 at the top (readTextureLevel)
+    std::vector<Image> hsm;  // HSM level k + 1: RG, row 0 at the top (readTextureLevel); level 0 is `depth`
     Image depth;             // the shadow map the depth tests read, row 0 at the top
 
     static BackprojectionCpu read(PassContext& ctx);
     // Texel (x, y) counted from the bottom, as texelFetch: the no-caster marker outside the map.
     float depthAt(glm::ivec2 t) const;
-    glm::vec2 hsmAt(int level, glm::ivec2 t) const;
+    glm::vec2 hsmAt(int level, glm::ivec2 t) const;  // HSM level `level` (0: the map, min = max)
+    int levelSize(int level) const;
     shared::BpReceiver receiver(const glm::vec3& worldPosition, const glm::vec3& worldNormal) const;
     bool occludes(const shared::BpReceiver& r, glm::ivec2 t, float z) const;
 };

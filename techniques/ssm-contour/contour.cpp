@@ -97,6 +97,10 @@ InternalDesc contourPixelRecord() {
     r.record = [](PassContext& ctx, glm::ivec2 pixel) {
         PixelRecordStart s = startPixelRecord(ctx, pixel);
         float sum = 0.0f;
+        if (!s.record.contains("background")) {
+            s.record["centre_block"] = nullptr;  // lit and umbra pixels integrate nothing
+            s.record["edges"] = nlohmann::json::array();
+        }
         if (!s.done) {
             const BackprojectionCpu& c = s.cpu;
             const BpReceiver& rc = s.receiver;

@@ -102,8 +102,8 @@ InternalDesc gbp06PixelRecord() {
                                        {"extended_top", q.extendedTop},
                                        {"area", area}});
                 }
-            s.record["samples"] = samples;
         }
+        if (!s.record.contains("background")) s.record["samples"] = samples;
         finishPixelRecord(ctx, pixel, s, sum);
         return s.record;
     };
