@@ -131,6 +131,7 @@ bool Window::interacting() const {
 void Window::setStatus(const std::string& text, bool error) {
     status_ = text;
     statusError_ = error;
+    statusTime_ = clock::now();
     if (error) std::fprintf(stderr, "shadowlab window: %s\n", text.c_str());
 }
 
@@ -553,9 +554,10 @@ void Window::takeScreenshot(const std::string& path) {
             for (int c = 0; c < 3; ++c) shot.at(x, y, c) = rgb[(size_t(fb.y - 1 - y) * fb.x + x) * 3 + c] / 255.0f;
     try {
         OutputSet outputs;
-        writePNG(outputs.stage(path), shot);
+        if (endsWith(path, ".pfm")) writePFM(outputs.stage(path), shot);  // for tests: no PNG reader in the core
+        else writePNG(outputs.stage(path), shot);
         outputs.commit();
-        setStatus("screenshot " + path);
+        if (scriptDone_) setStatus("screenshot " + path);  // a script's shots stay out of the next one
         std::printf("shadowlab window: screenshot %s (%dx%d)\n", path.c_str(), fb.x, fb.y);
         std::fflush(stdout);
     } catch (const std::exception& e) {
@@ -636,6 +638,8 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
     state.reduceWhileDragging = !opts.has("--no-reduce");
     std::string reportPath = opts.get("--report");
     if (!reportPath.empty()) checkOutputPath("--report", reportPath);
+    std::deque<ScriptCommand> script;
+    if (opts.has("--script")) script = parseScript(opts.get("--script"));
 
     glfwSetErrorCallback(onGlfwError);
     if (!glfwInit()) {
@@ -680,7 +684,7 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
         std::unique_ptr<Window> win;
         try {
             win = std::make_unique<Window>(window, state, software);
-            if (opts.has("--script")) win->loadScript(opts.get("--script"));
+            if (opts.has("--script")) win->setScript(std::move(script), opts.get("--script"));
         } catch (...) {
             ImGui_ImplOpenGL3_Shutdown();
             ImGui_ImplGlfw_Shutdown();

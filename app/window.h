@@ -130,8 +130,8 @@ public:
     void mouseButton(int button, bool press, int mods, glm::vec2 at);
     void mouseMove(glm::vec2 at);
     void scroll(double dy);
-    // --script FILE: parsed up front (errors name the file and line), run one step per frame.
-    void loadScript(const std::string& path);
+    // --script FILE: parsed up front by parseScript (errors name the file and line), one step per frame.
+    void setScript(std::deque<ScriptCommand> script, const std::string& path);
     bool scriptFinished() const { return scriptDone_; }
     bool scriptFailed() const { return scriptFailed_; }
 
@@ -193,6 +193,7 @@ private:
     std::optional<Metrics> metricsAll_, metricsPenumbra_;
     uint64_t metricsGeneration_ = ~0ull, metricsVersion_ = ~0ull;
     std::string status_;
+    clock::time_point statusTime_{};
     bool statusError_ = false;
     std::vector<std::string> pendingShots_;
     std::string openPath_;
@@ -212,6 +213,9 @@ private:
     float pendingScale_ = 0.0f;
     uint64_t referenceVersion_ = ~0ull;  // version_ the reference was last synced to
 };
+
+// Reads and checks a --script file (window_input.cpp lists the steps). InputError naming file:line.
+std::deque<ScriptCommand> parseScript(const std::string& path);
 
 // Renders the default scene headless into a folder when no window can open (no display); prints
 // what it did and where. Returns the exit code (0 when the render worked).

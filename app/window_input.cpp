@@ -228,7 +228,7 @@ void Window::scroll(double dy) {
 //   resize W H                 the window's size (waits 3 frames for the window system)
 //   wait N                     N frames
 //   wait-reference [MAX]       until the reference is complete (at most MAX frames, default 100000)
-//   screenshot FILE            the whole window after the next frame
+//   screenshot FILE            the whole window, UI included, one frame later (.png, or .pfm for tests)
 //   reference-samples N        N of the progressive reference
 //   save-reference FILE.pfm    the complete reference's visibility (fails when it is not complete)
 //   save-visibility FILE.pfm   the technique's visibility of the last frame
@@ -265,10 +265,10 @@ int buttonCode(const std::string& name) {
 
 }  // namespace
 
-void Window::loadScript(const std::string& path) {
+std::deque<ScriptCommand> parseScript(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw InputError("window: --script: cannot read '" + path + "'");
-    scriptPath_ = path;
+    std::deque<ScriptCommand> script;
     std::string text;
     static const std::map<std::string, std::pair<size_t, size_t>> arity = {
         {"key", {1, 2}},      {"technique", {1, 1}}, {"scene", {1, 1}},      {"param", {2, 2}},
@@ -346,8 +346,14 @@ void Window::loadScript(const std::string& path) {
             if (!parent.empty() && !std::filesystem::is_directory(parent))
                 throw InputError(where + "screenshot: folder '" + parent.string() + "' does not exist");
         }
-        script_.push_back(c);
+        script.push_back(c);
     }
+    return script;
+}
+
+void Window::setScript(std::deque<ScriptCommand> script, const std::string& path) {
+    script_ = std::move(script);
+    scriptPath_ = path;
     scriptDone_ = false;
 }
 

@@ -313,7 +313,7 @@ void Window::drawUi() {
     }
 
     // ---- status line
-    if (!status_.empty()) {
+    if (!status_.empty() && std::chrono::duration<double>(clock::now() - statusTime_).count() < 5.0) {
         ImGui::SetNextWindowPos(ImVec2(size.x * 0.5f, size.y - 8 * s), ImGuiCond_Always, ImVec2(0.5f, 1.0f));
         ImGui::SetNextWindowBgAlpha(0.6f);
         ImGui::Begin("##status", nullptr,
