@@ -347,13 +347,11 @@ void Window::renderViews() {
     }
     state_.time = frameIndex_ / 30.0;
 
-    static uint64_t renderedVersion = ~0ull;
     auto t0 = clock::now();
     renderer_->renderFrame(frameIndex_, {"image", "visibility"});
     glFinish();
     renderMs_ = msSince(t0);
-    if (!reduce && renderedVersion != version_) fullRenderMs_ = renderMs_;
-    renderedVersion = version_;
+    if (!reduce && renderMs_ > 1.0) fullRenderMs_ = renderMs_;  // a frame that ran passes (not all reused)
 
     if (state_.compare == WindowState::Compare::Technique) {
         static uint64_t syncedVersion = ~0ull;
@@ -401,19 +399,12 @@ void Window::updateMetrics() {
     metricsVersion_ = version_;
 }
 
+// The technique view is composed (present.frag: split, error, sRGB encoding) into a cached RGBA8
+// image at the render's resolution, only when what it shows changed, then scaled to the window with
+// a blit: on llvmpipe a full-window shader pass per frame cost more than a reduced render.
 void Window::present() {
     glm::ivec2 fb = renderSize();
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glViewport(0, 0, fb.x, fb.y);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
-    glDisable(GL_SCISSOR_TEST);
-    glDisable(GL_STENCIL_TEST);
-    glDisable(GL_CULL_FACE);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glClearColor(0.1f, 0.1f, 0.12f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT);
-
+    glm::ivec2 size(renderer_->width(), renderer_->height());
     bool referenceShown = reference_.active() && reference_.done() > 0 && referenceVersion_ == version_;
     GLuint a = renderer_->imageTexture().id(), b = a;
     float scaleA = 1.0f, scaleB = 1.0f;
@@ -421,6 +412,7 @@ void Window::present() {
     if (state_.technique == "reference" && referenceShown) {
         a = reference_.imageSum().id();
         scaleA = reference_.normalization();
+        size = glm::ivec2(reference_.imageSum().width(), reference_.imageSum().height());
     }
     if (state_.errorView) {
         if (referenceShown) {
@@ -438,20 +430,44 @@ void Window::present() {
         b = compareRenderer_->imageTexture().id();
         mode = 1;
     }
-    present_.use();
-    glBindTextureUnit(0, a);
-    glBindTextureUnit(1, b);
-    present_.set("imageA", 0);
-    present_.set("imageB", 1);
-    present_.set("mode", mode);
-    present_.set("split", state_.split);
-    present_.set("viewSize", glm::vec2(fb));
-    present_.set("errorScale", state_.errorScale);
-    present_.set("scaleA", scaleA);
-    present_.set("scaleB", scaleB);
-    drawFullscreenTriangle();
-    glBindTextureUnit(0, 0);
-    glBindTextureUnit(1, 0);
+    if (mode != 0) size = fb;  // two images (possibly of two sizes) meet at the split: compose at window size
+    std::vector<double> key = {double(version_), double(frameIndex_), double(a), double(b), double(mode),
+                               double(size.x), double(size.y), state_.split, state_.errorScale,
+                               double(reference_.done()), double(reference_.generation()), renderMs_ > 0.5 ? double(++presentCount_) : 0.0};
+    if (!viewCache_ || viewCache_.width() != size.x || viewCache_.height() != size.y) {
+        viewCache_ = Texture::create2D(size.x, size.y, Format::RGBA8);
+        viewCacheFbo_ = Framebuffer({&viewCache_}, nullptr);
+        presentKey_.clear();
+    }
+    if (key != presentKey_) {
+        viewCacheFbo_.bind(size.x, size.y);
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_BLEND);
+        glDisable(GL_SCISSOR_TEST);
+        glDisable(GL_STENCIL_TEST);
+        glDisable(GL_CULL_FACE);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        present_.use();
+        glBindTextureUnit(0, a);
+        glBindTextureUnit(1, b);
+        present_.set("imageA", 0);
+        present_.set("imageB", 1);
+        present_.set("mode", mode);
+        present_.set("split", state_.split);
+        present_.set("viewSize", glm::vec2(size));
+        present_.set("errorScale", state_.errorScale);
+        present_.set("scaleA", scaleA);
+        present_.set("scaleB", scaleB);
+        drawFullscreenTriangle();
+        glBindTextureUnit(0, 0);
+        glBindTextureUnit(1, 0);
+        presentKey_ = key;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, fb.x, fb.y);
+    glDisable(GL_SCISSOR_TEST);
+    glBlitNamedFramebuffer(viewCacheFbo_.id(), 0, 0, 0, size.x, size.y, 0, 0, fb.x, fb.y, GL_COLOR_BUFFER_BIT,
+                           size == fb ? GL_NEAREST : GL_LINEAR);
 }
 
 void Window::drawOverlay() {
@@ -523,19 +539,29 @@ double Window::frame() {
         ImGui::GetStyle() = style;
         appliedScale = state_.uiScale;
     }
+    auto phase = clock::now();
+    auto lap = [&](double& ms) {
+        glFinish();
+        ms = msSince(phase);
+        phase = clock::now();
+    };
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     drawUi();
+    lap(phaseMs_[0]);
     renderViews();
+    lap(phaseMs_[1]);
     present();
     drawOverlay();
+    lap(phaseMs_[2]);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    lap(phaseMs_[3]);
     for (const std::string& path : pendingShots_) takeScreenshot(path);
     pendingShots_.clear();
     glfwSwapBuffers(window_);
-    glFinish();
+    lap(phaseMs_[4]);
     frameMs_ = msSince(t0);
     uiFps_ = uiFps_ == 0.0 ? 1000.0 / frameMs_ : 0.9 * uiFps_ + 0.1 * (1000.0 / frameMs_);
     return frameMs_;
@@ -569,7 +595,13 @@ std::string Window::lastFrameReport() const {
     glm::ivec2 size = renderer_ ? glm::ivec2(renderer_->width(), renderer_->height()) : glm::ivec2(0);
     nlohmann::json j{{"frame_ms", frameMs_}, {"render_ms", renderMs_}, {"reduced", reduced_},
                      {"interacting", interacting()}, {"render_size", {size.x, size.y}},
-                     {"reference_samples", reference_.done()}};
+                     {"reference_samples", reference_.done()},
+                     {"phases_ms", {{"ui", phaseMs_[0]}, {"render_and_reference", phaseMs_[1]}, {"present", phaseMs_[2]},
+                                    {"imgui_draw", phaseMs_[3]}, {"swap", phaseMs_[4]}}}};
+    if (!state_.lights.empty()) {
+        const glm::vec3& p = state_.lights[size_t(state_.lightIndex)].position;
+        j["light"] = {p.x, p.y, p.z};
+    }
     return j.dump();
 }
 

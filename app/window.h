@@ -175,9 +175,13 @@ private:
     ProgressiveReference reference_;
     ShaderProgram present_;
     Texture errorDummy_;
+    Texture viewCache_;          // the composed technique view (sRGB RGBA8), at the render's size
+    Framebuffer viewCacheFbo_;
+    std::vector<double> presentKey_;  // what the cache shows
+    uint64_t presentCount_ = 0;
     int frameIndex_ = 0;
     uint64_t version_ = 0;  // bumps on every change of the state
-    clock::time_point lastInput_ = clock::now();
+    clock::time_point lastInput_{};
     bool dragging_ = false;
     enum class Drag { None, Orbit, Pan, Light, Split };
     Drag drag_ = Drag::None;
@@ -187,6 +191,7 @@ private:
     bool reduced_ = false;      // this frame rendered at reduced resolution
     double fullRenderMs_ = -1;  // last full-resolution render of a changed state
     double renderMs_ = 0, frameMs_ = 0, uiFps_ = 0;
+    double phaseMs_[5] = {0, 0, 0, 0, 0};  // ui, render (+ reference), present, ImGui draw, swap
     nlohmann::json stats_;
     clock::time_point statsTime_{};
     // metrics against the reference, for (reference generation, state version)

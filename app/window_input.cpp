@@ -223,6 +223,7 @@ void Window::scroll(double dy) {
 //   drag BUTTON MODS x0 y0 x1 y1 FRAMES
 //                              a mouse drag in window coordinates over FRAMES frames
 //                              (BUTTON left|right|middle, MODS none|shift|ctrl)
+//   drag-light DX DY FRAMES    a left drag from the selected light's centre, by (DX, DY) pixels
 //   scroll DY | pick X Y | split off|reference|TECHNIQUE | split-at F | error on|off
 //   frustum on|off | ui-scale F | help on|off | panel on|off | views on|off | background on|off
 //   resize W H                 the window's size (waits 3 frames for the window system)
@@ -277,7 +278,7 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         {"ui-scale", {1, 1}}, {"help", {1, 1}},      {"panel", {1, 1}},      {"views", {1, 1}},
         {"background", {1, 1}}, {"resize", {2, 2}},  {"wait", {1, 1}},       {"wait-reference", {0, 1}},
         {"screenshot", {1, 1}}, {"reference-samples", {1, 1}}, {"save-reference", {1, 1}},
-        {"save-visibility", {1, 1}}};
+        {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}};
     for (int line = 1; std::getline(in, text); ++line) {
         if (auto hash = text.find('#'); hash != std::string::npos) text.resize(hash);
         std::istringstream words(text);
@@ -324,6 +325,9 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
             if (modsCode(c.args[1]) < 0) throw InputError(where + "expected none, shift or ctrl, got '" + c.args[1] + "'");
             for (size_t i = 2; i < 7; ++i) number(c.args[i]);
             if (number(c.args[6]) < 1) throw InputError(where + "a drag takes at least 1 frame");
+        } else if (c.verb == "drag-light") {
+            for (size_t i = 0; i < 3; ++i) number(c.args[i]);
+            if (number(c.args[2]) < 1) throw InputError(where + "a drag takes at least 1 frame");
         } else if (c.verb == "reference-samples") {
             if (number(c.args[0]) < 1 || number(c.args[0]) > 65536) throw InputError(where + "expected 1..65536 samples");
         } else if (c.verb == "scroll" || c.verb == "split-at" || c.verb == "ui-scale" || c.verb == "wait" ||
@@ -433,6 +437,24 @@ void Window::runScriptStep() {
                 shotArmed_ = false;
                 screenshot(a[0]);
             }
+            return;
+        } else if (c.verb == "drag-light") {
+            // A left drag that starts on the selected light's centre (where the window draws it).
+            if (state_.lights.empty()) continue;
+            auto centre = projectToWindow(state_.camera, aspect(), state_.lights[size_t(state_.lightIndex)].position,
+                                          windowSize());
+            if (!centre) {
+                setStatus(scriptPath_ + ":" + std::to_string(c.line) + ": drag-light: the light is behind the camera", true);
+                scriptFailed_ = true;
+                continue;
+            }
+            ScriptDrag d;
+            d.button = GLFW_MOUSE_BUTTON_LEFT;
+            d.from = *centre;
+            d.to = *centre + glm::vec2(std::stof(a[0]), std::stof(a[1]));
+            d.frames = std::max(1, std::stoi(a[2]));
+            mouseButton(d.button, true, 0, d.from);
+            scriptDrag_ = d;
             return;
         } else if (c.verb == "drag") {
             ScriptDrag d;
