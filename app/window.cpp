@@ -99,8 +99,7 @@ Window::Window(GLFWwindow* window, WindowState state, bool software)
     errorDummy_ = Texture::create2D(1, 1, Format::R32F);
     if (const TechniqueDesc* ref = findTechnique("reference"))
         if (const ParamDesc* p = ref->findParam("samples")) state_.referenceSamples = int(p->defaultValue);
-    rebuildScene();
-    if (!renderer_) throw InputError(status_);
+    if (!rebuildScene()) throw InputError("window: " + status_);
 }
 
 Window::~Window() = default;
@@ -135,13 +134,13 @@ void Window::setStatus(const std::string& text, bool error) {
     if (error) std::fprintf(stderr, "shadowlab window: %s\n", text.c_str());
 }
 
-void Window::rebuildScene() {
+bool Window::rebuildScene() {
     std::unique_ptr<Scene> scene;
     try {
         scene = std::make_unique<Scene>(isGltf(state_.scene) ? makeGltfScene(state_.scene) : loadScene(state_.scene));
     } catch (const InputError& e) {
         setStatus(e.what(), true);
-        return;
+        return false;
     }
     compareRenderer_.reset();
     reference_.cancel();
@@ -167,6 +166,7 @@ void Window::rebuildScene() {
     std::string title = "shadowlab - " + scene_->name + " - " + state_.technique + "   (F1: keys)";
     glfwSetWindowTitle(window_, title.c_str());
     touch();
+    return true;
 }
 
 // ---- actions ------------------------------------------------------------------------------------------
@@ -175,8 +175,7 @@ void Window::selectScene(const std::string& nameOrPath) {
     std::string previous = state_.scene;
     state_.scene = nameOrPath;
     state_.pickedPixel.reset();
-    rebuildScene();
-    if (statusError_ && scene_ && previous != nameOrPath && renderer_) {
+    if (!rebuildScene()) {
         state_.scene = previous;  // the old scene stays loaded
         return;
     }

@@ -149,7 +149,7 @@ public:
 
 private:
     friend struct WindowUi;
-    void rebuildScene();
+    bool rebuildScene();  // false (status says why) when the scene does not load: the old one stays
     void applyRendererState();
     void renderViews();
     void present();
