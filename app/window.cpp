@@ -122,7 +122,8 @@ glm::ivec2 Window::renderSize() const {
 }
 
 bool Window::interacting() const {
-    if (drag_ != Drag::None || scriptDrag_) return true;
+    // Moving the split changes no rendered state: the technique and the reference stay as they are.
+    if (drag_ != Drag::None && drag_ != Drag::Split) return true;
     if (ImGui::GetCurrentContext() && ImGui::IsAnyItemActive()) return true;
     return std::chrono::duration<double>(clock::now() - lastInput_).count() < 0.15;
 }
@@ -275,9 +276,8 @@ void Window::resetCamera() { setCamera(scene_->camera); }
 void Window::pickPixel(glm::ivec2 pixel) {
     glm::ivec2 size = renderSize();
     pixel = glm::clamp(pixel, glm::ivec2(0), size - 1);
-    state_.pickedPixel = pixel;
+    state_.pickedPixel = pixel;  // views re-render for it (no rendered state changes: no touch())
     setStatus("picked pixel " + std::to_string(pixel.x) + "," + std::to_string(pixel.y));
-    touch();
 }
 
 void Window::setCompare(WindowState::Compare compare, const std::string& technique) {
@@ -290,19 +290,12 @@ void Window::setCompare(WindowState::Compare compare, const std::string& techniq
         if (compareRenderer_ && id != state_.compareTechnique) compareRenderer_->setTechnique(id);
         state_.compareTechnique = id;
     }
-    state_.compare = compare;
-    touch();
+    state_.compare = compare;  // what is shown, not what is rendered: no touch()
 }
 
-void Window::setErrorView(bool on) {
-    state_.errorView = on;
-    touch();
-}
+void Window::setErrorView(bool on) { state_.errorView = on; }
 
-void Window::setSplit(float split) {
-    state_.split = std::clamp(split, 0.0f, 1.0f);
-    touch();
-}
+void Window::setSplit(float split) { state_.split = std::clamp(split, 0.0f, 1.0f); }
 
 void Window::setReferenceSamples(int samples) {
     state_.referenceSamples = std::clamp(samples, 1, 65536);

@@ -158,7 +158,7 @@ private:
     void drawViewsPanel();
     void runScriptStep();
     void takeScreenshot(const std::string& path);
-    void touch() { ++version_; }
+    void touch() { ++version_; }  // the rendered state changed (scene, technique, parameter, light, camera)
     void noteInput() { lastInput_ = clock::now(); }  // a drag, wheel or arrow key: render reduced for a moment
     void updateMetrics();
     void setStatus(const std::string& text, bool error = false);
