@@ -20,6 +20,7 @@
 #include "error.h"
 #include "gl_context.h"
 #include "light_view.h"
+#include "vtk_offscreen.h"
 #include "window.h"
 
 namespace shadowlab {
@@ -537,12 +538,14 @@ double Window::frame() {
         ms = msSince(phase);
         phase = clock::now();
     };
+    syncViewList();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     drawUi();
     lap(phaseMs_[0]);
     renderViews();
+    updateViews();
     lap(phaseMs_[1]);
     present();
     drawOverlay();

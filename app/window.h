@@ -29,6 +29,8 @@ struct GLFWwindow;
 
 namespace shadowlab {
 
+class VtkOffscreen;
+
 // What the user sees and has chosen: the single source of truth for the UI, keys, scripts, lessons.
 struct WindowState {
     std::string scene;      // a name in assets/scenes, or a path to a .json scene or a .gltf/.glb file
@@ -54,6 +56,7 @@ struct WindowState {
     int referenceSamples = 1024;            // N of `reference` (its descriptor's default)
     float uiScale = 1.0f;
     bool showPanel = true, showHud = true, showHelp = false, showViews = false;
+    std::vector<std::string> openViews;  // VTK views shown in the views panel (viz/views.h names)
 };
 
 // The reference of the current state, accumulated a few light samples per frame: N stratified light
@@ -124,6 +127,8 @@ public:
     void cycleTechnique(int step);
     void cycleScene(int step);
     void screenshot(const std::string& path);  // the whole window, UI included, after this frame
+    void openView(const std::string& name);     // a VTK view of viz/views.h in the views panel
+    void closeView(const std::string& name);
 
     // ---- input (window_input.cpp): GLFW callbacks and synthetic events from --script.
     void key(int key, int mods);
@@ -216,6 +221,21 @@ private:
     int scriptWaitReference_ = 0;  // frames left to wait for the reference to complete
     int shotCounter_ = 0;
     float pendingScale_ = 0.0f;
+    // The views panel (window_views.cpp): one VTK frame per open view, re-rendered when the state,
+    // the picked pixel or the view's own orbit changed, one view per idle frame.
+    struct OpenView {
+        std::string name;
+        std::unique_ptr<VtkOffscreen> frame;
+        std::string caption, refusal;
+        bool valid = false;
+        std::vector<double> renderedKey;
+        float azimuth = 0.0f, elevation = 0.0f, zoom = 1.0f;
+    };
+    std::vector<std::unique_ptr<OpenView>> views_;
+    void syncViewList();
+    void updateViews();
+    Image referenceImage_;  // the complete reference's visibility, for the error view
+    uint64_t referenceImageGeneration_ = ~0ull;
     uint64_t referenceVersion_ = ~0ull;  // version_ the reference was last synced to
 };
 

@@ -223,6 +223,7 @@ void Window::scroll(double dy) {
 //   drag BUTTON MODS x0 y0 x1 y1 FRAMES
 //                              a mouse drag in window coordinates over FRAMES frames
 //                              (BUTTON left|right|middle, MODS none|shift|ctrl)
+//   view NAME | close-view NAME  a VTK view in the views panel (scene3d, shadow-map, internal, error)
 //   drag-light DX DY FRAMES    a left drag from the selected light's centre, by (DX, DY) pixels
 //   scroll DY | pick X Y | split off|reference|TECHNIQUE | split-at F | error on|off
 //   frustum on|off | ui-scale F | help on|off | panel on|off | views on|off | background on|off
@@ -278,7 +279,7 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         {"ui-scale", {1, 1}}, {"help", {1, 1}},      {"panel", {1, 1}},      {"views", {1, 1}},
         {"background", {1, 1}}, {"resize", {2, 2}},  {"wait", {1, 1}},       {"wait-reference", {0, 1}},
         {"screenshot", {1, 1}}, {"reference-samples", {1, 1}}, {"save-reference", {1, 1}},
-        {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}};
+        {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}, {"view", {1, 1}}, {"close-view", {1, 1}}};
     for (int line = 1; std::getline(in, text); ++line) {
         if (auto hash = text.find('#'); hash != std::string::npos) text.resize(hash);
         std::istringstream words(text);
@@ -407,6 +408,8 @@ void Window::runScriptStep() {
         else if (c.verb == "panel") state_.showPanel = on(0);
         else if (c.verb == "views") state_.showViews = on(0);
         else if (c.verb == "background") state_.backgroundReference = on(0);
+        else if (c.verb == "view") openView(a[0]);
+        else if (c.verb == "close-view") closeView(a[0]);
         else if (c.verb == "reference-samples") setReferenceSamples(std::stoi(a[0]));
         else if (c.verb == "save-reference" || c.verb == "save-visibility") {
             if (c.verb == "save-reference" && !(reference_.complete() && referenceVersion_ == version_)) {

@@ -337,18 +337,4 @@ void Window::drawUi() {
     (void)io;
 }
 
-// The VTK views (issue 6 part 2, viz/views.h renderView) are not on this branch yet. The hook: this
-// panel shows an uploaded Image per open view; picking a pixel (state_.pickedPixel) and the state
-// version (version_) say when to re-render them.
-void Window::drawViewsPanel() {
-    const float s = state_.uiScale;
-    glm::vec2 size = windowSize();
-    ImGui::SetNextWindowPos(ImVec2(size.x - 8 * s, size.y - 40 * s), ImGuiCond_FirstUseEver, ImVec2(1, 1));
-    ImGui::SetNextWindowSize(ImVec2(360 * s, 200 * s), ImGuiCond_FirstUseEver);
-    ImGui::Begin("Views (V)", &state_.showViews);
-    ImGui::TextWrapped("The VTK views (scene3d, shadow-map, internal, error) come with viz/views.h; "
-                       "not merged on this branch yet. Ctrl+click picks the pixel they will show.");
-    ImGui::End();
-}
-
 }  // namespace shadowlab

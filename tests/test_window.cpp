@@ -174,6 +174,31 @@ TEST(Window, ProgressiveReferenceEqualsTheReferenceCommand) {
     for (size_t i = 0; i < wp.data.size(); ++i) ASSERT_EQ(wp.data[i], cp.data[i]) << "pixel " << i;
 }
 
+// The views panel: VTK views rendered into the window's context; picking another pixel re-renders
+// them (the screenshot changes); no GL error (exit code 0).
+TEST(Window, ViewsPanelFollowsThePickedPixel) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    std::ofstream(tmp("views.txt")) << "panel off\nkey h\nbackground off\nview scene3d\nview shadow-map\n"
+                                    << "pick 100 150\nwait 4\nscreenshot " << tmp("a.pfm") << "\n"
+                                    << "pick 200 130\nwait 4\nscreenshot " << tmp("b.pfm") << "\n"
+                                    << "close-view scene3d\nclose-view shadow-map\nwait 1\nscreenshot " << tmp("c.pfm")
+                                    << "\n";
+    auto r = runXvfb("window --scene square-occluder --technique pcf --size 640x480 --script " + tmp("views.txt"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    Image a = shadowlab::readPFM(tmp("a.pfm")), b = shadowlab::readPFM(tmp("b.pfm")), c = shadowlab::readPFM(tmp("c.pfm"));
+    // The views occupy the bottom of the window: compare the bottom half, where they are.
+    auto bottomDiff = [](const Image& x, const Image& y) {
+        double sum = 0.0;
+        size_t n = 0;
+        for (int row = x.height / 2; row < x.height; ++row)
+            for (int col = 0; col < x.width; ++col)
+                for (int k = 0; k < 3; ++k, ++n) sum += std::abs(x.at(col, row, k) - y.at(col, row, k));
+        return sum / double(n);
+    };
+    EXPECT_GT(bottomDiff(a, b), 0.0005);  // the picked point, its rays and texels moved
+    EXPECT_GT(bottomDiff(b, c), 0.01);    // closing the views uncovers the technique view
+}
+
 TEST(Window, RaytracedIsRefusedWithTheReason) {
     if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
     std::ofstream(tmp("rt.txt")) << "technique raytraced\nsave-visibility " << tmp("v.pfm") << "\n";
