@@ -113,7 +113,7 @@ void Window::drawUi() {
     // ---- the panel
     if (state_.showPanel) {
         ImGui::SetNextWindowPos(ImVec2(8 * s, 8 * s), ImGuiCond_Always);
-        ImGui::SetNextWindowSizeConstraints(ImVec2(300 * s, 100 * s), ImVec2(420 * s, size.y - 16 * s));
+        ImGui::SetNextWindowSizeConstraints(ImVec2(300 * s, 100 * s), ImVec2(380 * s, size.y - 16 * s));
         ImGui::SetNextWindowBgAlpha(0.88f);
         ImGui::Begin("shadowlab (Tab hides, F1 keys)", &state_.showPanel,
                      ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
@@ -124,9 +124,9 @@ void Window::drawUi() {
                 const TechniqueDesc* d = findTechnique(id);
                 bool live = id != "raytraced";
                 if (!live) ImGui::BeginDisabled();
-                if (ImGui::Selectable((id + "  -  " + d->name).c_str(), id == state_.technique)) selectTechnique(id);
+                if (ImGui::Selectable(id.c_str(), id == state_.technique)) selectTechnique(id);
                 if (!live) ImGui::EndDisabled();
-                tooltip(live ? d->citation + "\n" + d->summary
+                tooltip(live ? d->name + "\n" + d->citation + "\n" + d->summary
                              : "the CPU ray tracer takes seconds per frame: use `shadowlab render --technique raytraced`");
             }
         }
@@ -207,7 +207,6 @@ void Window::drawUi() {
             pick |= ImGui::RadioButton("single", &mode, 0);
             ImGui::SameLine();
             pick |= ImGui::RadioButton("split: reference", &mode, 1);
-            ImGui::SameLine();
             pick |= ImGui::RadioButton("split: technique", &mode, 2);
             if (pick) setCompare(WindowState::Compare(mode));
             if (state_.compare == WindowState::Compare::Technique &&
