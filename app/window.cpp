@@ -370,7 +370,10 @@ void Window::renderViews() {
                          state_.errorView || state_.technique == "reference";
     if (!needReference) {
         if (reference_.active()) reference_.cancel();
-    } else if (!interacting() && pendingShots_.empty()) {
+    } else if (!interacting() && pendingShots_.empty() &&
+               (std::chrono::duration<double>(clock::now() - lastInput_).count() > 0.5 || scriptWaitReference_ > 0)) {
+        // Half a second without input first: a sample can cost more than a frame on llvmpipe, and a
+        // pause between two drags should not wait for one.
         reference_.sync(*scene_, state_.camera, state_.lights, full.x, full.y, state_.time, state_.referenceSamples);
         referenceVersion_ = version_;
         // The UI keeps 30 fps when one sample fits: what is left of 33 ms after the technique's frame.
