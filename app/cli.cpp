@@ -469,8 +469,9 @@ int commandScene(const std::vector<std::string>& args) {
 void printUsage() {
     std::puts(
         "shadowlab: real-time soft shadows, taught\n"
-        "  shadowlab                         the window (needs a display)\n"
-        "  shadowlab window [--scene S] [--technique T] [--size WxH] [--screenshot f.png --frames N]\n"
+        "  shadowlab                         the window; with no display: renders the default scene into ./shadowlab-output\n"
+        "  shadowlab window [--scene S|file.gltf] [--technique T] [--size WxH] [--ui-scale F] [--no-reduce]\n"
+        "                   [--screenshot f.png --frames N] [--script steps.txt] [--report frames.json]   (F1: keys)\n"
         "  shadowlab list [--json]           techniques with parameters, scenes, lessons\n"
         "  shadowlab render --scene S [--technique T] [--set k=v]... [--size WxH] [--out img.png]\n"
         "                   [--visibility v.pfm] [--positions p.pfm] [--ids i.pfm] [--stats s.json]\n"
@@ -492,7 +493,7 @@ void printUsage() {
 int runCommandLine(const std::vector<std::string>& args) {
     try {
         rememberCommandLine(args);
-        if (args.empty()) return runWindow(args);
+        if (args.empty()) return runDefault();
         const std::string& command = args[0];
         if (command == "list") return commandList(args);
         if (command == "render") return commandRender(args);
