@@ -58,9 +58,12 @@ int commandLesson(const std::vector<std::string>& args) {
                     lesson.steps.size(), tasks);
         return 0;
     }
-    if (!headless)
-        throw InputError("lesson: the window's lesson player is not wired into the window yet; for a handout without a "
-                         "display use 'shadowlab lesson " + lesson.id + " --headless --out DIR'");
+    if (!headless) {
+        // The player in the window; without a display, runWindow says so (exit 2) and names --headless.
+        std::vector<std::string> windowArgs = {"--lesson", opts.positional()[0]};
+        if (opts.has("--size")) windowArgs.insert(windowArgs.end(), {"--size", opts.get("--size")});
+        return runWindow(windowArgs);
+    }
     auto context = createHeadlessContext(parseBackend(opts.get("--gl", "egl")));
     fs::create_directories(out);
     renderLessonHeadless(lesson, out, width, height);

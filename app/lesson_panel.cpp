@@ -1,6 +1,10 @@
 // The lesson player's ImGui panel (Dear ImGui 1.86): what the window draws beside the views.
 #include <imgui.h>
 
+#include <cctype>
+#include <sstream>
+#include <string>
+
 #include "lesson_player.h"
 
 namespace shadowlab {
@@ -19,6 +23,40 @@ bool letterPressed(char upper) {
         if (io.InputQueueCharacters[i] == ImWchar(upper) || io.InputQueueCharacters[i] == ImWchar(upper - 'A' + 'a'))
             return true;
     return false;
+}
+
+// Markdown narration as the panel shows it: the source's hard line breaks joined within a paragraph
+// (ImGui wraps at the panel's width), list items and blank lines kept, ** emphasis markers dropped.
+std::string reflowNarration(const std::string& markdown) {
+    std::string out, line;
+    std::istringstream in(markdown);
+    bool paragraphOpen = false;
+    while (std::getline(in, line)) {
+        size_t first = line.find_first_not_of(" \t");
+        if (first == std::string::npos) {
+            if (!out.empty() && out.back() != '\n') out += "\n";
+            if (!out.empty()) out += "\n";
+            paragraphOpen = false;
+            continue;
+        }
+        std::string text = line.substr(first);
+        bool item = text.rfind("- ", 0) == 0 || text.rfind("* ", 0) == 0 ||
+                    (std::isdigit(static_cast<unsigned char>(text[0])) && text.find(". ") != std::string::npos &&
+                     text.find(". ") < 4);
+        if (paragraphOpen && !item) out += " ";
+        else if (paragraphOpen) out += "\n";
+        out += text;
+        paragraphOpen = true;
+    }
+    std::string clean;
+    for (size_t i = 0; i < out.size(); ++i) {
+        if (out.compare(i, 2, "**") == 0) {
+            ++i;
+            continue;
+        }
+        clean += out[i];
+    }
+    return clean;
 }
 
 const char* statusText(LessonPlayer::TaskStatus s) {
@@ -67,7 +105,7 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
     ImGui::Spacing();
     ImGui::BeginChild("narration", ImVec2(0, -ImGui::GetFrameHeightWithSpacing() * (step.task ? 6.0f : 2.0f)), false);
     ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextUnformatted(step.narration.c_str());
+    ImGui::TextUnformatted(reflowNarration(step.narration).c_str());
     ImGui::PopTextWrapPos();
     ImGui::EndChild();
     if (step.task) {

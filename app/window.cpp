@@ -19,6 +19,8 @@
 #include "cli.h"
 #include "error.h"
 #include "gl_context.h"
+#include "lesson.h"
+#include "lesson_player.h"
 #include "light_view.h"
 #include "vtk_offscreen.h"
 #include "window.h"
@@ -546,6 +548,12 @@ double Window::frame() {
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     drawUi();
+    {
+        auto now = clock::now();
+        double seconds = lessonClock_ == clock::time_point{} ? 0.0 : std::chrono::duration<double>(now - lessonClock_).count();
+        lessonClock_ = now;
+        drawLesson(seconds);
+    }
     lap(phaseMs_[0]);
     renderViews();
     updateViews();
@@ -647,7 +655,8 @@ size_t indexOf(const std::vector<std::string>& list, const std::string& value, c
 
 int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
     Options opts("window", args, 0,
-                 {"--scene", "--technique", "--size", "--screenshot", "--frames", "--script", "--report", "--ui-scale"},
+                 {"--scene", "--technique", "--size", "--screenshot", "--frames", "--script", "--report", "--ui-scale",
+                  "--lesson"},
                  {"--no-reduce"});
     if (!opts.positional().empty()) throw InputError("window: unexpected argument '" + opts.positional()[0] + "'");
     WindowState state;
@@ -670,6 +679,12 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
     if (!reportPath.empty()) checkOutputPath("--report", reportPath);
     std::deque<ScriptCommand> script;
     if (opts.has("--script")) script = parseScript(opts.get("--script"));
+    // A lesson is read and checked before the window opens: a bad one is refused (file:line, exit 2).
+    std::optional<Lesson> lesson;
+    if (opts.has("--lesson")) {
+        lesson = loadLesson(opts.get("--lesson"));
+        state.scene = lesson->steps.front().state.scene;
+    }
 
     glfwSetErrorCallback(onGlfwError);
     if (!glfwInit()) {
@@ -714,6 +729,7 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
         std::unique_ptr<Window> win;
         try {
             win = std::make_unique<Window>(window, state, software);
+            if (lesson) win->openLesson(std::move(*lesson));
             if (opts.has("--script")) win->setScript(std::move(script), opts.get("--script"));
         } catch (...) {
             ImGui_ImplOpenGL3_Shutdown();
@@ -761,7 +777,8 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
 
 int runWindow(const std::vector<std::string>& args) { return runWindowImpl(args, false); }
 
-int runDefault() { return runWindowImpl({}, true); }
+// The first lesson (intro) in the window: what a new user should see first.
+int runDefault() { return runWindowImpl({"--lesson", "intro"}, true); }
 
 int runHeadlessFallback(const std::string& reason) {
     std::error_code ec;

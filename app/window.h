@@ -30,6 +30,10 @@ struct GLFWwindow;
 namespace shadowlab {
 
 class VtkOffscreen;
+struct Lesson;
+class LessonPlayer;
+class LessonHost;
+class WindowLessonHost;
 
 // What the user sees and has chosen: the single source of truth for the UI, keys, scripts, lessons.
 struct WindowState {
@@ -129,6 +133,11 @@ public:
     void screenshot(const std::string& path);  // the whole window, UI included, after this frame
     void openView(const std::string& name);     // a VTK view of viz/views.h in the views panel
     void closeView(const std::string& name);
+    // ---- lessons (window_lesson.cpp): the player drives the window through the actions above.
+    void openLesson(Lesson lesson);  // applies its first step
+    // "next", "previous", "restore", "check", "show-me" (the panel's buttons; --script lesson ACTION)
+    void lessonAction(const std::string& action);
+    const LessonPlayer* lesson() const { return lesson_.get(); }
 
     // ---- input (window_input.cpp): GLFW callbacks and synthetic events from --script.
     void key(int key, int mods);
@@ -154,6 +163,9 @@ public:
 
 private:
     friend struct WindowUi;
+    friend class WindowLessonHost;
+    bool lessonKey(int key) const;     // a key the open lesson's panel reads (the window ignores it)
+    void drawLesson(double seconds);   // the lesson panel, and the step's animation advanced
     bool rebuildScene();  // false (status says why) when the scene does not load: the old one stays
     void applyRendererState();
     void renderViews();
@@ -234,6 +246,9 @@ private:
     std::vector<std::unique_ptr<OpenView>> views_;
     void syncViewList();
     void updateViews();
+    std::unique_ptr<LessonHost> lessonHost_;
+    std::unique_ptr<LessonPlayer> lesson_;
+    clock::time_point lessonClock_{};
     Image referenceImage_;  // the complete reference's visibility, for the error view
     uint64_t referenceImageGeneration_ = ~0ull;
     uint64_t referenceVersion_ = ~0ull;  // version_ the reference was last synced to

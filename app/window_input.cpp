@@ -48,6 +48,7 @@ const char* Window::helpText() {
 }
 
 void Window::key(int key, int mods) {
+    if (lessonKey(key)) return;  // an open lesson's panel reads it (app/lesson_panel.cpp)
     bool shift = (mods & GLFW_MOD_SHIFT) != 0;
     int step = shift ? -1 : 1;
     Light light = state_.lights.empty() ? Light{} : state_.lights[size_t(state_.lightIndex)];
@@ -279,7 +280,8 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         {"ui-scale", {1, 1}}, {"help", {1, 1}},      {"panel", {1, 1}},      {"views", {1, 1}},
         {"background", {1, 1}}, {"resize", {2, 2}},  {"wait", {1, 1}},       {"wait-reference", {0, 1}},
         {"screenshot", {1, 1}}, {"reference-samples", {1, 1}}, {"save-reference", {1, 1}},
-        {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}, {"view", {1, 1}}, {"close-view", {1, 1}}};
+        {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}, {"view", {1, 1}}, {"close-view", {1, 1}},
+        {"lesson", {1, 1}}};
     for (int line = 1; std::getline(in, text); ++line) {
         if (auto hash = text.find('#'); hash != std::string::npos) text.resize(hash);
         std::istringstream words(text);
@@ -306,7 +308,11 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         auto onOff = [&](const std::string& s) {
             if (s != "on" && s != "off") throw InputError(where + "expected on or off, got '" + s + "'");
         };
-        if (c.verb == "key") {
+        if (c.verb == "lesson") {
+            static const std::set<std::string> actions = {"next", "previous", "restore", "check", "show-me"};
+            if (!actions.count(c.args[0]))
+                throw InputError(where + "lesson: expected next, previous, restore, check or show-me, got '" + c.args[0] + "'");
+        } else if (c.verb == "key") {
             if (keyCode(c.args[0]) < 0) throw InputError(where + "unknown key '" + c.args[0] + "'");
             if (c.args.size() > 1 && modsCode(c.args[1]) < 0)
                 throw InputError(where + "expected shift or ctrl, got '" + c.args[1] + "'");
@@ -390,6 +396,7 @@ void Window::runScriptStep() {
         const auto& a = c.args;
         auto on = [&](size_t i) { return a[i] == "on"; };
         if (c.verb == "key") key(keyCode(a[0]), a.size() > 1 ? modsCode(a[1]) : 0);
+        else if (c.verb == "lesson") lessonAction(a[0]);
         else if (c.verb == "technique") selectTechnique(a[0]);
         else if (c.verb == "scene") selectScene(a[0]);
         else if (c.verb == "param") setParam(a[0], a[1]);
