@@ -38,6 +38,8 @@ const char* Window::helpText() {
            "  + / -         UI scale (projectors)\n"
            "  Tab           panel on / off;  H: HUD on / off;  V: views panel\n"
            "  P or F12      screenshot (shadowlab-<n>.png in the working folder)\n"
+           "  With a lesson open (window --lesson L): Right / Left or PageDown / PageUp step,\n"
+           "                R restores the step, C checks the task, M shows the answer, Space plays\n"
            "  Esc or Q      quit\n"
            "Mouse (in the view)\n"
            "  left drag     orbit the camera\n"
