@@ -5,6 +5,8 @@ namespace shadowlab {
 
 const TechniqueDesc& hardTechnique();
 const TechniqueDesc& pcfTechnique();
+const TechniqueDesc& pcssTechnique();
+const TechniqueDesc& sssmTechnique();
 const TechniqueDesc& referenceTechnique();
 const TechniqueDesc& raytracedTechnique();
 
@@ -12,6 +14,8 @@ const std::vector<const TechniqueDesc*>& allTechniques() {
     static const std::vector<const TechniqueDesc*> all = {
         &hardTechnique(),
         &pcfTechnique(),
+        &pcssTechnique(),
+        &sssmTechnique(),
         &referenceTechnique(),
         &raytracedTechnique(),
     };

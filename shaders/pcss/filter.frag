@@ -1,0 +1,41 @@
+// PCSS step 2, percentage-closer filtering with the kernel of step 1 (Fernando 2005; buades2015
+// sec. 2): the weighted fraction of depth tests that pass over a kernel as wide as the penumbra of
+// eq. 1. Regular pattern: every texel of the kernel, box weights with fractional edge taps
+// (kernelWeight, so the kernel widens continuously); Poisson: POISSON_COUNT taps in a disk.
+#include "../common/gbuffer_access.glsl"
+#include "pcss_common.glsl"
+uniform sampler2D blockers;  // (z_avg, count, search width, kernel) of blocker_search
+layout(location = 0) out float visibility;
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    if (isBackground(pixel)) {
+        visibility = 1.0;
+        return;
+    }
+    vec4 b = texelFetch(blockers, pixel, 0);
+    ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));
+    TapPlane plane = tapPlane(worldPosition(pixel), worldNormal(pixel));
+    if (b.x < 0.0) {  // no blocker: "considered as being totally illuminated" (buades2015 sec. 4.2)
+        visibility = 1.0;
+        return;
+    }
+    float kernel = b.w;
+    if (pattern == PATTERN_POISSON) {
+        float lit = 0.0;
+        for (int i = 0; i < POISSON_COUNT; ++i) lit += shadowTestTap(receiver, plane, poissonDisk[i] * (0.5 * kernel));
+        visibility = lit / float(POISSON_COUNT);
+        return;
+    }
+    int r = kernelRadius(kernel);
+    float lit = 0.0, weights = 0.0;
+    for (int dy = -r; dy <= r; ++dy) {
+        float wy = kernelWeight(float(dy), kernel, FILTER_MEAN, 1.0);
+        for (int dx = -r; dx <= r; ++dx) {
+            float w = wy * kernelWeight(float(dx), kernel, FILTER_MEAN, 1.0);
+            lit += w * shadowTestTap(receiver, plane, vec2(dx, dy));
+            weights += w;
+        }
+    }
+    visibility = lit / weights;
+}

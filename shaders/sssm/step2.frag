@@ -1,0 +1,83 @@
+// SSSM step 2 (buades2015 sec. 4.1-4.2, Table 1 "Step2", Fig. 4): the blocker average, reusing the
+// horizontal partial sums of step 1 row by row when |d - d_t| < alpha and reading the n texels of
+// the row from the depth map otherwise; the penumbra size (eq. 1) as a screen-space kernel; and
+// the horizontal blur of the hard shadows with that kernel (Gaussian or mean, sec. 4.4).
+#include "sssm_common.glsl"
+uniform sampler2D blockerRows;  // step 1: (d, partial sum, partial count, search width)
+uniform sampler2D hardShadows;  // step 1: hard shadow per pixel
+uniform mat4 cameraClipFromWorld;
+uniform vec3 lightUpWorld;      // world direction of the shadow map's +v axis
+uniform float alpha;            // step-2 reuse threshold (light-depth units)
+uniform float beta;             // step-3 reuse threshold (camera-depth units), also for the row's taps
+uniform float filterKernel;     // m (pixels)
+uniform int filterKind;         // FILTER_GAUSSIAN or FILTER_MEAN
+uniform float sigma;            // Gaussian sigma over the kernel's half-width
+layout(location = 0) out vec4 penumbra;   // (z_avg (-1: no blocker), w_penumbra (world), kernel x, kernel y (pixels))
+layout(location = 1) out float horizontal;  // horizontally blurred hard shadow
+layout(location = 2) out float reuse;       // fraction of the n rows taken from step 1 (-1: no receiver)
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    vec4 own = texelFetch(blockerRows, pixel, 0);
+    float hard = texelFetch(hardShadows, pixel, 0).r;
+    penumbra = vec4(-1.0, 0.0, 1.0, 1.0);
+    horizontal = hard;
+    reuse = -1.0;
+    if (isBackground(pixel) || own.x < 0.0) return;
+    float d = own.x;
+    ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));
+    TapPlane plane = tapPlane(worldPosition(pixel), worldNormal(pixel));
+
+    // Blocker average: for each row t of the n x n search, p_t is the point at the same light depth
+    // t texels along the map's v axis; its step-1 result serves if the surface seen there is at a
+    // light depth within alpha, else the row's n texels are read from the depth map.
+    int r = kernelRadius(own.w);
+    vec2 acc = vec2(0.0);
+    int reused = 0;
+    vec3 p = worldPosition(pixel);
+    for (int t = -r; t <= r; ++t) {
+        vec4 clip = cameraClipFromWorld * vec4(p + float(t) * receiver.texelWorld * lightUpWorld, 1.0);
+        bool ok = false;
+        if (clip.w > 0.0) {
+            ivec2 q = ivec2(floor((clip.xy / clip.w * 0.5 + 0.5) * viewportSize));
+            if (onScreen(q)) {
+                vec4 row = texelFetch(blockerRows, q, 0);
+                if (reuseBlockerRow(d, row.x, alpha)) {
+                    acc += row.yz;
+                    ok = true;
+                    ++reused;
+                }
+            }
+        }
+        if (!ok) {
+            for (int x = -r; x <= r; ++x) {
+                vec2 offset = vec2(x, t);
+                acc = accumulateBlocker(acc, storedDepthOffset(receiver, offset), d, tapBias(receiver, plane, offset));
+            }
+        }
+    }
+    reuse = float(reused) / float(2 * r + 1);
+    float zAvg = averageBlockerDepth(acc);
+    float wPenumbra = penumbraWidth(lightWidthWorld, d, zAvg);  // eq. 1
+    if (wPenumbra <= 0.0) {  // "if (penumbra == 0) soft_shadow_value = hard_shadow_value"
+        penumbra = vec4(zAvg, 0.0, 1.0, 1.0);
+        return;
+    }
+    Surface s = surfaceAt(pixel);
+    float kx = penumbraKernelPixels(wPenumbra, worldPerPixel(s, pixel, vec2(1.0, 0.0)), filterKernel);
+    float ky = penumbraKernelPixels(wPenumbra, worldPerPixel(s, pixel, vec2(0.0, 1.0)), filterKernel);
+    penumbra = vec4(zAvg, wPenumbra, kx, ky);
+
+    // Horizontal blur of the hard shadows (partial_soft_shadow): a tap whose pixel shows another
+    // surface (beta) or lies off screen is sampled from the shadow map on this pixel's plane.
+    int rx = kernelRadius(kx);
+    float sum = 0.0, weights = 0.0;
+    for (int i = -rx; i <= rx; ++i) {
+        float w = kernelWeight(float(i), kx, filterKind, sigma);
+        ivec2 q = pixel + ivec2(i, 0);
+        float v = showsSurface(s, q, beta) ? texelFetch(hardShadows, q, 0).r : hardShadowOnPlane(s, vec2(q) + 0.5);
+        sum += w * v;
+        weights += w;
+    }
+    horizontal = sum / weights;
+}

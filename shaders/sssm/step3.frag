@@ -1,0 +1,52 @@
+// SSSM step 3 (buades2015 sec. 4.2, Table 1 "Step3"): the vertical blur. Row t of the m x m kernel
+// reuses the horizontal blur of step 2 at (x, y + t) when that pixel's camera depth, adjusted by
+// this pixel's normal (its tangent plane), is within beta; otherwise the row is filtered again from
+// the hard shadows, and from the shadow map where the screen does not show this surface.
+#include "sssm_common.glsl"
+uniform sampler2D hardShadows;  // step 1
+uniform sampler2D penumbras;    // step 2: (z_avg, w_penumbra, kernel x, kernel y)
+uniform sampler2D horizontals;  // step 2: horizontal blur
+uniform float beta;
+uniform int filterKind;
+uniform float sigma;
+layout(location = 0) out float visibility;
+layout(location = 1) out float reuse;  // fraction of the rows taken from step 2 (-1: no filtering)
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    visibility = 1.0;
+    reuse = -1.0;
+    if (isBackground(pixel)) return;
+    vec4 pen = texelFetch(penumbras, pixel, 0);
+    if (pen.y <= 0.0) {  // no penumbra: the hard shadow
+        visibility = texelFetch(hardShadows, pixel, 0).r;
+        return;
+    }
+    Surface s = surfaceAt(pixel);
+    float kx = pen.z, ky = pen.w;
+    int rx = kernelRadius(kx), ry = kernelRadius(ky);
+    float sum = 0.0, weights = 0.0;
+    int reused = 0;
+    for (int t = -ry; t <= ry; ++t) {
+        float w = kernelWeight(float(t), ky, filterKind, sigma);
+        ivec2 q = pixel + ivec2(0, t);
+        float v;
+        if (showsSurface(s, q, beta)) {
+            v = texelFetch(horizontals, q, 0).r;
+            ++reused;
+        } else {
+            float rowSum = 0.0, rowWeights = 0.0;
+            for (int i = -rx; i <= rx; ++i) {
+                float wi = kernelWeight(float(i), kx, filterKind, sigma);
+                ivec2 qi = q + ivec2(i, 0);
+                rowSum += wi * (showsSurface(s, qi, beta) ? texelFetch(hardShadows, qi, 0).r : hardShadowOnPlane(s, vec2(qi) + 0.5));
+                rowWeights += wi;
+            }
+            v = rowSum / rowWeights;
+        }
+        sum += w * v;
+        weights += w;
+    }
+    visibility = sum / weights;
+    reuse = float(reused) / float(2 * ry + 1);
+}

@@ -1,0 +1,190 @@
+// `pcss`: percentage-closer soft shadows (Fernando 2005, recapped in buades2015 sec. 2, eq. 1). The
+// light-centre shadow map of `hard`; a blocker search over the region the light and the receiver
+// define; the penumbra width of eq. 1; PCF with a kernel of that width.
+#include "pcss.h"
+
+#include <cmath>
+
+#include "../hard/hard.h"
+#include "error.h"
+#include "shared/shared.h"
+
+namespace shadowlab {
+
+float lightWidthWorld(const Light& light) {
+    if (light.isPoint()) return 0.0f;
+    return light.shape == LightShape::Square ? light.size : 2.0f * light.size;
+}
+
+const std::array<glm::vec2, 32>& poissonDisk32() {
+    static const std::array<glm::vec2, 32> disk = [] {
+        std::array<glm::vec2, 32> points{};
+        size_t count = 0;
+        const float minDistance = 0.25f;
+        for (uint32_t i = 0; count < points.size(); ++i) {
+            uint32_t h = shared::pcgHash(i * 2654435761u + 17u);
+            glm::vec2 p(shared::hashToUnit(h) * 2.0f - 1.0f, shared::hashToUnit(shared::pcgHash(h)) * 2.0f - 1.0f);
+            if (glm::dot(p, p) > 1.0f) continue;
+            bool far = true;
+            for (size_t k = 0; k < count && far; ++k) far = glm::distance(points[k], p) >= minDistance;
+            if (far) points[count++] = p;
+            if (i > 1000000u) throw InternalError("poissonDisk32: dart throwing did not converge");
+        }
+        return points;
+    }();
+    return disk;
+}
+
+namespace {
+
+void setPcssUniforms(PassContext& ctx, const ShaderProgram& program, const Texture& map) {
+    setShadowLookupUniforms(program, ctx.lightView(), map.width(), ctx.light());
+    program.set("biasConstTexels", float(ctx.param("bias_const")));
+    program.set("biasSlopeTexels", float(ctx.param("bias_slope")));
+    program.set("lightWidthWorld", lightWidthWorld(ctx.light()));
+    program.set("lightNearZ", ctx.lightView().nearZ);
+    program.set("pattern", ctx.paramChoice("pattern") == "poisson" ? 1 : 0);
+    const auto& disk = poissonDisk32();
+    glProgramUniform2fv(program.id(), program.location("poissonDisk"), GLsizei(disk.size()), &disk[0].x);
+}
+
+// Step 1: blocker search, average blocker depth, penumbra width (eq. 1) and the PCF kernel.
+class BlockerSearchPass : public Pass {
+public:
+    void execute(PassContext& ctx) override {
+        Texture& out = ctx.texture("pcss_blockers");
+        if (fboTexture_ != out.id()) {
+            fbo_ = Framebuffer({&out}, nullptr);
+            fboTexture_ = out.id();
+        }
+        const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/blocker_search.frag");
+        program.use();
+        const Texture& map = ctx.texture(shadowTestMap(ctx));
+        setPcssUniforms(ctx, program, map);
+        program.set("blockerKernel", float(ctx.paramInt("blocker_kernel")));
+        program.set("filterKernel", float(ctx.paramInt("filter_kernel")));
+        ctx.bindGBuffer(program);
+        glBindTextureUnit(3, map.id());
+        program.set("shadowMap", 3);
+        fbo_.bind(ctx.width(), ctx.height());
+        drawFullscreenTriangle();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+private:
+    Framebuffer fbo_;
+    GLuint fboTexture_ = 0;
+};
+
+// Step 2: PCF over the kernel of step 1.
+class FilterPass : public Pass {
+public:
+    void execute(PassContext& ctx) override {
+        Texture& visibility = ctx.texture("visibility");
+        if (fboTexture_ != visibility.id()) {
+            fbo_ = Framebuffer({&visibility}, nullptr);
+            fboTexture_ = visibility.id();
+        }
+        const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/filter.frag");
+        program.use();
+        const Texture& map = ctx.texture(shadowTestMap(ctx));
+        setPcssUniforms(ctx, program, map);
+        ctx.bindGBuffer(program);
+        glBindTextureUnit(3, map.id());
+        program.set("shadowMap", 3);
+        glBindTextureUnit(4, ctx.texture("pcss_blockers").id());
+        program.set("blockers", 4);
+        fbo_.bind(ctx.width(), ctx.height());
+        drawFullscreenTriangle();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+private:
+    Framebuffer fbo_;
+    GLuint fboTexture_ = 0;
+};
+
+}  // namespace
+
+// The kernel parameters of the shadow-map filtering family, with buades2015's settings.
+ParamDesc blockerKernelParam() {
+    ParamDesc n{"blocker_kernel", "n", ParamDesc::Type::Int, "texels", 29, 1, 127, 2,
+                "largest blocker-search width n; each pixel searches the region its light and depth define, up to n "
+                "(buades2015 uses 7, 11, 29; 29 with m = 41 is its Tables 2-6 setting). Clamped to 2 sm_size - 1",
+                ""};
+    n.constraint = ParamDesc::Constraint::Odd;
+    return n;
+}
+
+ParamDesc filterKernelParam(const std::string& unit) {
+    ParamDesc m{"filter_kernel", "m", ParamDesc::Type::Int, unit, 41, 1, 127, 2,
+                "largest filter width m; each pixel filters over its eq. 1 penumbra, up to m (buades2015 uses 15, 21, 41)",
+                ""};
+    m.constraint = ParamDesc::Constraint::Odd;
+    return m;
+}
+
+const TechniqueDesc& pcssTechnique() {
+    static const TechniqueDesc desc = [] {
+        TechniqueDesc d;
+        d.id = "pcss";
+        d.name = "Percentage-closer soft shadows";
+        d.citation = "Fernando 2005, Percentage-closer soft shadows; recap in buades2015 sec. 2, eq. 1 and sec. 4.1 (Fig. 2)";
+        d.summary = "blocker search in the shadow map, penumbra width from the average blocker depth (eq. 1, parallel "
+                    "light, occluder and receiver), then PCF with a kernel that wide";
+        d.soft = true;
+        d.params = shadowMapParams();
+        d.params.push_back(blockerKernelParam());
+        ParamDesc m = filterKernelParam("texels");
+        m.doc += ". Clamped to 2 sm_size - 1";
+        d.params.push_back(m);
+        ParamDesc pattern{"pattern", "", ParamDesc::Type::Enum, "", 0, 0, 1, 1,
+                          "sampling pattern of both searches: regular = every texel of the kernel (the paper's n x n and "
+                          "m x m, a square light), poisson = 32 taps of a Poisson disk scaled to the kernel (a disk light, "
+                          "fixed cost, noisy)",
+                          ""};
+        pattern.choices = {"regular", "poisson"};
+        d.params.push_back(pattern);
+
+        std::vector<std::string> common = {"gbuffer", "light", "param:bias_const", "param:bias_slope", "param:pattern"};
+        for (const std::string& r : shadowTestReads()) common.push_back(r);
+
+        PassDesc search;
+        search.name = "blocker_search";
+        search.doc = "blocker search over the light/receiver region (<= n x n texels), average blocker depth, eq. 1 "
+                     "penumbra and PCF kernel";
+        search.reads = common;
+        search.reads.push_back("param:blocker_kernel");
+        search.reads.push_back("param:filter_kernel");
+        search.creates = {ResourceDesc::texture(
+            "pcss_blockers", Format::RGBA32F, SizeRule::frame(),
+            "per pixel: average blocker depth z_avg (-1: none), blocker count, search width and filter kernel (texels)")};
+        search.soft = true;
+        search.create = [] { return std::make_unique<BlockerSearchPass>(); };
+
+        PassDesc filter;
+        filter.name = "filter";
+        filter.doc = "PCF over the penumbra kernel of the blocker search (<= m x m texels)";
+        filter.reads = common;
+        filter.reads.push_back("pcss_blockers");
+        filter.creates = {visibilityResource()};
+        filter.soft = true;
+        filter.create = [] { return std::make_unique<FilterPass>(); };
+        d.passes = {shadowMapPass(), search, filter};
+
+        d.internals = shadowMapInternals();
+        InternalDesc blockers;
+        blockers.name = "blockers";
+        blockers.kind = InternalDesc::Kind::Image;
+        blockers.resource = "pcss_blockers";
+        blockers.channels = {"avg_blocker_depth", "blocker_count", "search_width", "kernel_size"};
+        blockers.doc = "per pixel: average blocker depth z_avg (world, -1 = no blocker), blockers found, blocker-search "
+                       "width and PCF kernel width (texels)";
+        d.internals.push_back(blockers);
+        d.internals.push_back(shadowMapPixelRecord());
+        return d;
+    }();
+    return desc;
+}
+
+}  // namespace shadowlab
