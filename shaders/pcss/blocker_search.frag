@@ -16,7 +16,7 @@ void main() {
         return;
     }
     ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));
-    TapPlane plane = tapPlane(worldPosition(pixel), worldNormal(pixel));
+    TapPlane plane = tapPlane(receiver, worldPosition(pixel), worldNormal(pixel));
     if (receiver.coord.w == 0.0) {  // outside the light's frustum: lit
         blockers = vec4(-1.0, 0.0, 0.0, 0.0);
         return;

@@ -15,7 +15,7 @@ void main() {
     }
     vec4 b = texelFetch(blockers, pixel, 0);
     ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));
-    TapPlane plane = tapPlane(worldPosition(pixel), worldNormal(pixel));
+    TapPlane plane = tapPlane(receiver, worldPosition(pixel), worldNormal(pixel));
     if (b.x < 0.0) {  // no blocker: "considered as being totally illuminated" (buades2015 sec. 4.2)
         visibility = 1.0;
         return;

@@ -24,22 +24,26 @@ float storedDepthOffset(ShadowReceiver r, vec2 offset) {
 // (a pot's side) the isotropic bias grows to hundreds of texels across a 41-texel kernel and hides
 // every blocker; the directional one keeps the half of the kernel that looks away from the surface.
 struct TapPlane {
-    vec3 pView;  // receiver in the light's view space
-    vec3 nView;  // its normal there
+    float invZ0;          // 1 / (the plane's light depth) under the receiver's own position
+    vec2 invZPerTexel;    // its change per texel of offset (planeInverseDepth)
+    float isoPerTexel;    // receiverPlaneBias per texel of offset: the cap
 };
 
-TapPlane tapPlane(vec3 worldPos, vec3 normal) {
+TapPlane tapPlane(ShadowReceiver r, vec3 worldPos, vec3 normal) {
+    vec3 p = (lightViewFromWorld * vec4(worldPos, 1.0)).xyz;
+    vec3 n = normalize(mat3(lightViewFromWorld) * normal);
+    vec3 inv = planeInverseDepth(p, n, r.coord.xy * 2.0 - 1.0, lightTanHalfFov, 1.0);
     TapPlane t;
-    t.pView = (lightViewFromWorld * vec4(worldPos, 1.0)).xyz;
-    t.nView = normalize(mat3(lightViewFromWorld) * normal);
+    t.invZ0 = inv.x;
+    t.invZPerTexel = inv.yz * (2.0 / shadowMapSize);  // d ndc / d texel = 2 / size
+    t.isoPerTexel = receiverPlaneBias(r.texelWorld, r.cosTheta, 1.0);
     return t;
 }
 
 float tapBias(ShadowReceiver r, TapPlane plane, vec2 offset) {
-    float isotropic = receiverPlaneBias(r.texelWorld, r.cosTheta, length(offset));
-    vec2 ndc = (r.coord.xy + offset / shadowMapSize) * 2.0 - 1.0;
-    float zPlane = tangentPlaneDepth(plane.pView, plane.nView, ndc, lightTanHalfFov, 1.0);
-    float extra = zPlane < 0.0 ? isotropic : clamp(r.coord.z - zPlane, 0.0, isotropic);
+    float isotropic = plane.isoPerTexel * length(offset);
+    float invZ = plane.invZ0 + dot(plane.invZPerTexel, offset);
+    float extra = invZ <= 0.0 ? isotropic : clamp(r.coord.z - 1.0 / invZ, 0.0, isotropic);
     return r.bias + extra;
 }
 

@@ -120,6 +120,20 @@ SHARED_FN float tangentPlaneDepth(vec3 pView, vec3 nView, vec2 ndc, float tanHal
     return t > 0.0f ? t : -1.0f;
 }
 
+// The same plane as an affine function of ndc: 1 / depth is affine in the view ray's ndc for any
+// plane, so a kernel loop steps it with one multiply-add and one division per tap instead of
+// intersecting a ray. Returns (1/depth at ndc, d(1/depth)/d ndc.x, d(1/depth)/d ndc.y); a plane
+// through the eye gives (-1, 0, 0). 1/depth <= 0 at some ndc: the plane is behind the ray (no depth).
+SHARED_FN vec3 planeInverseDepth(vec3 pView, vec3 nView, vec2 ndc, float tanHalfFovY, float aspect) {
+    float c = dot(nView, pView);
+    if (abs(c) < 1e-7f * length(pView)) {
+        return vec3(-1.0f, 0.0f, 0.0f);
+    }
+    float gx = nView.x * tanHalfFovY * aspect / c;
+    float gy = nView.y * tanHalfFovY / c;
+    return vec3(gx * ndc.x + gy * ndc.y - nView.z / c, gx, gy);
+}
+
 // Weight of the tap at integer offset i of a kernel of full width `width` (buades2015 sec. 4.4).
 // Mean: the box [-width/2, width/2] covering tap i's unit cell (so fractional widths vary
 // continuously; the weights sum to width). Gaussian: exp(-x^2 / (2 sigma^2)) at x = i / (width/2),

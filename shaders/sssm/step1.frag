@@ -5,18 +5,20 @@
 // of blockers and count of blockers" (here a fourth: the search width).
 #include "sssm_common.glsl"
 uniform float blockerKernel;  // n (texels)
-layout(location = 0) out float hardShadow;
+layout(location = 0) out vec2 hardShadow;  // (hard shadow, camera depth; -1 on background)
 layout(location = 1) out vec4 blockerRows;  // (d, partial_blocker_sum, partial_blocker_count, width)
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    hardShadow = 1.0;
+    hardShadow = vec2(1.0, -1.0);
     blockerRows = vec4(-1e30, 0.0, 0.0, 0.0);  // no receiver: a depth no other can be within alpha of
     if (isBackground(pixel)) return;
+    // The camera depth rides along, so steps 2 and 3 test beta with the fetch that reads the shadow.
+    hardShadow.y = cameraDepth(worldPosition(pixel));
     ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));
     if (receiver.coord.w == 0.0) return;  // outside the light's frustum: lit
-    TapPlane plane = tapPlane(worldPosition(pixel), worldNormal(pixel));
-    hardShadow = shadowTestOffset(receiver, vec2(0.0));
+    TapPlane plane = tapPlane(receiver, worldPosition(pixel), worldNormal(pixel));
+    hardShadow.x = shadowTestOffset(receiver, vec2(0.0));
     float d = receiver.coord.z;
     float width = blockerSearchWidthTexels(lightWidthWorld, d, lightNearZ, lightTanHalfFov, shadowMapSize, blockerKernel);
     int r = kernelRadius(width);

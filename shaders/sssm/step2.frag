@@ -4,7 +4,7 @@
 // the horizontal blur of the hard shadows with that kernel (Gaussian or mean, sec. 4.4).
 #include "sssm_common.glsl"
 uniform sampler2D blockerRows;  // step 1: (d, partial sum, partial count, search width)
-uniform sampler2D hardShadows;  // step 1: hard shadow per pixel
+uniform sampler2D hardShadows;  // step 1: (hard shadow, camera depth)
 uniform mat4 cameraClipFromWorld;
 uniform vec3 lightUpWorld;      // world direction of the shadow map's +v axis
 uniform float alpha;            // step-2 reuse threshold (light-depth units)
@@ -23,20 +23,27 @@ void main() {
     penumbra = vec4(-1.0, 0.0, 1.0, 1.0);
     horizontal = hard;
     reuse = -1.0;
-    if (isBackground(pixel) || own.x < 0.0) return;
+    if (own.x < 0.0) return;  // background or outside the light frustum (step 1's marker)
     float d = own.x;
-    ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));
-    TapPlane plane = tapPlane(worldPosition(pixel), worldNormal(pixel));
+    vec3 p = worldPosition(pixel);
+    ShadowReceiver receiver = prepareShadowReceiver(p, worldNormal(pixel));
+    TapPlane plane = tapPlane(receiver, p, worldNormal(pixel));
 
     // Blocker average: for each row t of the n x n search, p_t is the point at the same light depth
-    // t texels along the map's v axis; its step-1 result serves if the surface seen there is at a
-    // light depth within alpha, else the row's n texels are read from the depth map.
+    // t texels along the map's v axis (its clip position is affine in t); its step-1 row serves if
+    // the surface seen there is at a light depth within alpha, else the row's n texels are read
+    // from the depth map.
     int r = kernelRadius(own.w);
     vec2 acc = vec2(0.0);
     int reused = 0;
-    vec3 p = worldPosition(pixel);
+    vec4 clip0 = cameraClipFromWorld * vec4(p, 1.0);
+    vec4 clipStep = cameraClipFromWorld * vec4(receiver.texelWorld * lightUpWorld, 0.0);
+    // Rows that cannot be reused are marked in a 128-bit mask (n <= 127) and read from the depth
+    // map afterwards, each pixel walking only its own marks: on a CPU rasteriser a group of pixels
+    // then pays for the most rows any one of them misses, not for every row some pixel missed.
+    uvec4 missed = uvec4(0u);
     for (int t = -r; t <= r; ++t) {
-        vec4 clip = cameraClipFromWorld * vec4(p + float(t) * receiver.texelWorld * lightUpWorld, 1.0);
+        vec4 clip = clip0 + float(t) * clipStep;
         bool ok = false;
         if (clip.w > 0.0) {
             ivec2 q = ivec2(floor((clip.xy / clip.w * 0.5 + 0.5) * viewportSize));
@@ -50,6 +57,15 @@ void main() {
             }
         }
         if (!ok) {
+            int bit = t + r;
+            missed[bit >> 5] |= 1u << uint(bit & 31);
+        }
+    }
+    for (int word = 0; word < 4; ++word) {
+        uint bits = missed[word];
+        while (bits != 0u) {
+            int t = word * 32 + findLSB(bits) - r;
+            bits &= bits - 1u;
             for (int x = -r; x <= r; ++x) {
                 vec2 offset = vec2(x, t);
                 acc = accumulateBlocker(acc, storedDepthOffset(receiver, offset), d, tapBias(receiver, plane, offset));
@@ -63,9 +79,9 @@ void main() {
         penumbra = vec4(zAvg, 0.0, 1.0, 1.0);
         return;
     }
-    Surface s = surfaceAt(pixel);
-    float kx = penumbraKernelPixels(wPenumbra, worldPerPixel(s, pixel, vec2(1.0, 0.0)), filterKernel);
-    float ky = penumbraKernelPixels(wPenumbra, worldPerPixel(s, pixel, vec2(0.0, 1.0)), filterKernel);
+    Surface s = surfaceAt(pixel, texelFetch(hardShadows, pixel, 0).r);
+    float kx = penumbraKernelPixels(wPenumbra, worldPerPixel(s, ivec2(1, 0)), filterKernel);
+    float ky = penumbraKernelPixels(wPenumbra, worldPerPixel(s, ivec2(0, 1)), filterKernel);
     penumbra = vec4(zAvg, wPenumbra, kx, ky);
 
     // Horizontal blur of the hard shadows (partial_soft_shadow): a tap whose pixel shows another
@@ -74,9 +90,7 @@ void main() {
     float sum = 0.0, weights = 0.0;
     for (int i = -rx; i <= rx; ++i) {
         float w = kernelWeight(float(i), kx, filterKind, sigma);
-        ivec2 q = pixel + ivec2(i, 0);
-        float v = showsSurface(s, q, beta) ? texelFetch(hardShadows, q, 0).r : hardShadowOnPlane(s, vec2(q) + 0.5);
-        sum += w * v;
+        sum += w * surfaceHardShadow(s, hardShadows, pixel + ivec2(i, 0), beta);
         weights += w;
     }
     horizontal = sum / weights;

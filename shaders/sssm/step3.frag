@@ -3,7 +3,7 @@
 // this pixel's normal (its tangent plane), is within beta; otherwise the row is filtered again from
 // the hard shadows, and from the shadow map where the screen does not show this surface.
 #include "sssm_common.glsl"
-uniform sampler2D hardShadows;  // step 1
+uniform sampler2D hardShadows;  // step 1: (hard shadow, camera depth)
 uniform sampler2D penumbras;    // step 2: (z_avg, w_penumbra, kernel x, kernel y)
 uniform sampler2D horizontals;  // step 2: horizontal blur
 uniform float beta;
@@ -16,13 +16,12 @@ void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     visibility = 1.0;
     reuse = -1.0;
-    if (isBackground(pixel)) return;
     vec4 pen = texelFetch(penumbras, pixel, 0);
-    if (pen.y <= 0.0) {  // no penumbra: the hard shadow
+    if (pen.y <= 0.0) {  // no penumbra (or background, where step 1 wrote 1): the hard shadow
         visibility = texelFetch(hardShadows, pixel, 0).r;
         return;
     }
-    Surface s = surfaceAt(pixel);
+    Surface s = surfaceAt(pixel, texelFetch(hardShadows, pixel, 0).r);
     float kx = pen.z, ky = pen.w;
     int rx = kernelRadius(kx), ry = kernelRadius(ky);
     float sum = 0.0, weights = 0.0;
@@ -31,15 +30,14 @@ void main() {
         float w = kernelWeight(float(t), ky, filterKind, sigma);
         ivec2 q = pixel + ivec2(0, t);
         float v;
-        if (showsSurface(s, q, beta)) {
+        if (onScreen(q) && showsSurface(s, q, texelFetch(hardShadows, q, 0).g, beta)) {
             v = texelFetch(horizontals, q, 0).r;
             ++reused;
         } else {
             float rowSum = 0.0, rowWeights = 0.0;
             for (int i = -rx; i <= rx; ++i) {
                 float wi = kernelWeight(float(i), kx, filterKind, sigma);
-                ivec2 qi = q + ivec2(i, 0);
-                rowSum += wi * (showsSurface(s, qi, beta) ? texelFetch(hardShadows, qi, 0).r : hardShadowOnPlane(s, vec2(qi) + 0.5));
+                rowSum += wi * surfaceHardShadow(s, hardShadows, q + ivec2(i, 0), beta);
                 rowWeights += wi;
             }
             v = rowSum / rowWeights;

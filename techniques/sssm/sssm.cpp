@@ -2,6 +2,7 @@
 // the paper's steps (Table 1), so --stats times them as its Tables 2 and 3 do: DM (shadow_map),
 // Step1 (hard shadow and horizontal blocker rows), Step2 (blocker average with alpha reuse,
 // penumbra size, horizontal blur), Step3 (vertical blur with beta reuse).
+#include <glm/gtc/matrix_access.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "../hard/hard.h"
@@ -26,6 +27,10 @@ void setCommonUniforms(PassContext& ctx, const ShaderProgram& program, const Tex
     program.set("cameraTanHalfFovY", std::tan(glm::radians(camera.fovYDegrees) * 0.5f));
     program.set("cameraAspect", aspect);
     program.set("viewportSize", glm::vec2(ctx.width(), ctx.height()));
+    const LightView& light = ctx.lightView();
+    glm::mat4 lightViewFromCameraView = light.viewFromWorld * glm::inverse(viewFromWorld);
+    program.set("lightClipFromCameraView", light.clipFromView * lightViewFromCameraView);
+    program.set("lightDepthFromCameraView", -glm::row(lightViewFromCameraView, 2));
     ctx.bindGBuffer(program);  // units 0-2
     glBindTextureUnit(3, map.id());
     program.set("shadowMap", 3);
@@ -177,7 +182,8 @@ const TechniqueDesc& sssmTechnique() {
         step1.reads = common;
         step1.reads.push_back("param:blocker_kernel");
         step1.creates = {
-            ResourceDesc::texture("hard_shadow", Format::R32F, SizeRule::frame(), "hard shadow of each pixel (HardShadowMap)"),
+            ResourceDesc::texture("hard_shadow", Format::RG32F, SizeRule::frame(),
+                                  "hard shadow of each pixel (HardShadowMap) and its camera depth (-1: background)"),
             ResourceDesc::texture("blocker_rows", Format::RGBA32F, SizeRule::frame(),
                                   "horizontal blocker info: light depth d, partial_blocker_sum, partial_blocker_count, "
                                   "search width n (texels)")};
@@ -215,8 +221,9 @@ const TechniqueDesc& sssmTechnique() {
         d.passes = {shadowMapPass(), step1, step2, step3};
 
         d.internals = shadowMapInternals();
-        d.internals.push_back(imageInternal("hard_shadow", "hard_shadow", {"visibility"},
-                                            "hard shadow buffer of step 1 (0 shadowed, 1 lit)"));
+        d.internals.push_back(imageInternal("hard_shadow", "hard_shadow", {"visibility", "camera_depth"},
+                                            "hard shadow buffer of step 1 (0 shadowed, 1 lit) with the camera "
+                                            "depth the beta test reads (-1: background)"));
         d.internals.push_back(imageInternal("blocker_rows", "blocker_rows",
                                             {"light_depth", "partial_sum", "partial_count", "search_width"},
                                             "step 1's horizontal blocker buffer; search_width is the blocker-search "
