@@ -106,13 +106,4 @@ float hardShadowOnPlane(Surface s, ivec2 q) {
     return shadowDepthTest(z, texelFetch(shadowMap, texel, 0).r, s.bias);
 }
 
-// The hard shadow of the surface under pixel q: step 1's value when q shows the surface (beta),
-// else the shadow map on the tangent plane. hardShadows: step 1's (hard shadow, camera depth).
-float surfaceHardShadow(Surface s, sampler2D hardShadows, ivec2 q, float beta) {
-    if (onScreen(q)) {
-        vec2 hd = texelFetch(hardShadows, q, 0).rg;
-        if (showsSurface(s, q, hd.y, beta)) return hd.x;
-    }
-    return hardShadowOnPlane(s, q);
-}
 #endif

@@ -2,16 +2,12 @@
 // horizontal partial sums of step 1 row by row when |d - d_t| < alpha and reading the n texels of
 // the row from the depth map otherwise; the penumbra size (eq. 1) as a screen-space kernel; and
 // the horizontal blur of the hard shadows with that kernel (Gaussian or mean, sec. 4.4).
-#include "sssm_common.glsl"
+#include "sssm_blur.glsl"
 uniform sampler2D blockerRows;  // step 1: (d, partial sum, partial count, search width)
-uniform sampler2D hardShadows;  // step 1: (hard shadow, camera depth)
 uniform mat4 cameraClipFromWorld;
 uniform vec3 lightUpWorld;      // world direction of the shadow map's +v axis
 uniform float alpha;            // step-2 reuse threshold (light-depth units)
-uniform float beta;             // step-3 reuse threshold (camera-depth units), also for the row's taps
 uniform float filterKernel;     // m (pixels)
-uniform int filterKind;         // FILTER_GAUSSIAN or FILTER_MEAN
-uniform float sigma;            // Gaussian sigma over the kernel's half-width
 layout(location = 0) out vec4 penumbra;   // (z_avg (-1: no blocker), w_penumbra (world), kernel x, kernel y (pixels))
 layout(location = 1) out float horizontal;  // horizontally blurred hard shadow
 layout(location = 2) out float reuse;       // fraction of the n rows taken from step 1 (-1: no receiver)
@@ -57,8 +53,7 @@ void main() {
             }
         }
         if (!ok) {
-            int bit = t + r;
-            missed[bit >> 5] |= 1u << uint(bit & 31);
+            missed = markBit(missed, t + r);
         }
     }
     for (int word = 0; word < 4; ++word) {
@@ -86,12 +81,5 @@ void main() {
 
     // Horizontal blur of the hard shadows (partial_soft_shadow): a tap whose pixel shows another
     // surface (beta) or lies off screen is sampled from the shadow map on this pixel's plane.
-    int rx = kernelRadius(kx);
-    float sum = 0.0, weights = 0.0;
-    for (int i = -rx; i <= rx; ++i) {
-        float w = kernelWeight(float(i), kx, filterKind, sigma);
-        sum += w * surfaceHardShadow(s, hardShadows, pixel + ivec2(i, 0), beta);
-        weights += w;
-    }
-    horizontal = sum / weights;
+    horizontal = blurRow(s, pixel, kx);
 }

@@ -2,13 +2,9 @@
 // reuses the horizontal blur of step 2 at (x, y + t) when that pixel's camera depth, adjusted by
 // this pixel's normal (its tangent plane), is within beta; otherwise the row is filtered again from
 // the hard shadows, and from the shadow map where the screen does not show this surface.
-#include "sssm_common.glsl"
-uniform sampler2D hardShadows;  // step 1: (hard shadow, camera depth)
+#include "sssm_blur.glsl"
 uniform sampler2D penumbras;    // step 2: (z_avg, w_penumbra, kernel x, kernel y)
 uniform sampler2D horizontals;  // step 2: horizontal blur
-uniform float beta;
-uniform int filterKind;
-uniform float sigma;
 layout(location = 0) out float visibility;
 layout(location = 1) out float reuse;  // fraction of the rows taken from step 2 (-1: no filtering)
 
@@ -23,27 +19,31 @@ void main() {
     }
     Surface s = surfaceAt(pixel, texelFetch(hardShadows, pixel, 0).r);
     float kx = pen.z, ky = pen.w;
-    int rx = kernelRadius(kx), ry = kernelRadius(ky);
+    int ry = kernelRadius(ky);
     float sum = 0.0, weights = 0.0;
     int reused = 0;
+    uvec4 missed = uvec4(0u);  // rows filtered again after the loop (see blurRow)
     for (int t = -ry; t <= ry; ++t) {
         float w = kernelWeight(float(t), ky, filterKind, sigma);
-        ivec2 q = pixel + ivec2(0, t);
-        float v;
-        if (onScreen(q) && showsSurface(s, q, texelFetch(hardShadows, q, 0).g, beta)) {
-            v = texelFetch(horizontals, q, 0).r;
-            ++reused;
-        } else {
-            float rowSum = 0.0, rowWeights = 0.0;
-            for (int i = -rx; i <= rx; ++i) {
-                float wi = kernelWeight(float(i), kx, filterKind, sigma);
-                rowSum += wi * surfaceHardShadow(s, hardShadows, q + ivec2(i, 0), beta);
-                rowWeights += wi;
-            }
-            v = rowSum / rowWeights;
-        }
-        sum += w * v;
         weights += w;
+        ivec2 q = pixel + ivec2(0, t);
+        bool ok = false;
+        if (onScreen(q)) {
+            if (showsSurface(s, q, texelFetch(hardShadows, q, 0).g, beta)) {
+                sum += w * texelFetch(horizontals, q, 0).r;
+                ok = true;
+                ++reused;
+            }
+        }
+        if (!ok) missed = markBit(missed, t + ry);
+    }
+    for (int word = 0; word < 4; ++word) {
+        uint bits = missed[word];
+        while (bits != 0u) {
+            int t = word * 32 + findLSB(bits) - ry;
+            bits &= bits - 1u;
+            sum += kernelWeight(float(t), ky, filterKind, sigma) * blurRow(s, pixel + ivec2(0, t), kx);
+        }
     }
     visibility = sum / weights;
     reuse = float(reused) / float(2 * ry + 1);
