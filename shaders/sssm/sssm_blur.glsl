@@ -7,17 +7,10 @@ uniform float beta;             // reuse threshold (camera depth, world units)
 uniform int filterKind;         // FILTER_GAUSSIAN or FILTER_MEAN
 uniform float sigma;            // Gaussian sigma over the kernel's half-width
 
-// Marks bit i (0 <= i < 128) of a 128-bit set.
-uvec4 markBit(uvec4 set, int i) {
-    set[i >> 5] |= 1u << uint(i & 31);
-    return set;
-}
-
 // The weighted mean of the surface's hard shadow over the row of pixels centre + (i, 0), |i| <= the
 // kernel's radius: step 1's value where the pixel shows this surface (beta), else the shadow map
 // on the surface's tangent plane. The shadow-map taps are gathered in a bit set and taken after
-// the row: a CPU rasteriser runs both sides of a branch for a group of pixels, but a loop only as
-// long as one of them needs it.
+// the row (takeLowestBit).
 float blurRow(Surface s, ivec2 centre, float width) {
     int r = kernelRadius(width);
     float sum = 0.0, weights = 0.0;
@@ -36,13 +29,9 @@ float blurRow(Surface s, ivec2 centre, float width) {
         }
         if (!ok) missed = markBit(missed, i + r);
     }
-    for (int word = 0; word < 4; ++word) {
-        uint bits = missed[word];
-        while (bits != 0u) {
-            int i = word * 32 + findLSB(bits) - r;
-            bits &= bits - 1u;
-            sum += kernelWeight(float(i), width, filterKind, sigma) * hardShadowOnPlane(s, centre + ivec2(i, 0));
-        }
+    while (any(notEqual(missed, uvec4(0u)))) {
+        int i = takeLowestBit(missed) - r;
+        sum += kernelWeight(float(i), width, filterKind, sigma) * hardShadowOnPlane(s, centre + ivec2(i, 0));
     }
     return sum / weights;
 }

@@ -106,4 +106,20 @@ float hardShadowOnPlane(Surface s, ivec2 q) {
     return shadowDepthTest(z, texelFetch(shadowMap, texel, 0).r, s.bias);
 }
 
+// Marks bit i (0 <= i < 128) of a 128-bit set.
+uvec4 markBit(uvec4 set, int i) {
+    set[i >> 5] |= 1u << uint(i & 31);
+    return set;
+}
+
+// Removes the lowest bit of a non-empty set and returns its index. Walking a set with
+// `while (any(notEqual(set, uvec4(0u)))) i = takeLowestBit(set);` costs a group of pixels on a CPU
+// rasteriser (which runs all branches of a group) as many turns as its fullest set, where
+// `if (missed) work` inside a loop would cost one turn per element any pixel missed.
+int takeLowestBit(inout uvec4 set) {
+    int w = set.x != 0u ? 0 : (set.y != 0u ? 1 : (set.z != 0u ? 2 : 3));
+    uint bits = set[w];
+    set[w] = bits & (bits - 1u);
+    return w * 32 + findLSB(bits);
+}
 #endif

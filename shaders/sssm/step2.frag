@@ -1,22 +1,27 @@
 // SSSM step 2 (buades2015 sec. 4.1-4.2, Table 1 "Step2", Fig. 4): the blocker average, reusing the
 // horizontal partial sums of step 1 row by row when |d - d_t| < alpha and reading the n texels of
 // the row from the depth map otherwise; the penumbra size (eq. 1) as a screen-space kernel; and
-// the horizontal blur of the hard shadows with that kernel (Gaussian or mean, sec. 4.4).
-#include "sssm_blur.glsl"
+// the horizontal blur of the hard shadows with that kernel (Gaussian or mean, sec. 4.4): that is
+// step2_blur.frag, a second draw of this pass over the pixels with a penumbra only.
+#include "sssm_common.glsl"
+uniform sampler2D hardShadows;  // step 1: (hard shadow, camera depth)
 uniform sampler2D blockerRows;  // step 1: (d, partial sum, partial count, search width)
 uniform mat4 cameraClipFromWorld;
 uniform vec3 lightUpWorld;      // world direction of the shadow map's +v axis
 uniform float alpha;            // step-2 reuse threshold (light-depth units)
-uniform float filterKernel;     // m (pixels)
-layout(location = 0) out vec4 penumbra;   // (z_avg (-1: no blocker), w_penumbra (world), kernel x, kernel y (pixels))
-layout(location = 1) out float horizontal;  // horizontally blurred hard shadow
-layout(location = 2) out float reuse;       // fraction of the n rows taken from step 1 (-1: no receiver)
+layout(location = 0) out vec2 penumbra;    // (z_avg (-1: no blocker), w_penumbra (world))
+layout(location = 1) out vec2 kernel;      // (1, 1) here; step2_blur.frag writes the penumbra's kernel
+layout(location = 2) out float horizontal;  // the hard shadow here; step2_blur.frag blurs it
+layout(location = 3) out float reuse;       // fraction of the n rows taken from step 1 (-1: no receiver)
+
+
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec4 own = texelFetch(blockerRows, pixel, 0);
     float hard = texelFetch(hardShadows, pixel, 0).r;
-    penumbra = vec4(-1.0, 0.0, 1.0, 1.0);
+    penumbra = vec2(-1.0, 0.0);
+    kernel = vec2(1.0);
     horizontal = hard;
     reuse = -1.0;
     if (own.x < 0.0) return;  // background or outside the light frustum (step 1's marker)
@@ -34,9 +39,8 @@ void main() {
     int reused = 0;
     vec4 clip0 = cameraClipFromWorld * vec4(p, 1.0);
     vec4 clipStep = cameraClipFromWorld * vec4(receiver.texelWorld * lightUpWorld, 0.0);
-    // Rows that cannot be reused are marked in a 128-bit mask (n <= 127) and read from the depth
-    // map afterwards, each pixel walking only its own marks: on a CPU rasteriser a group of pixels
-    // then pays for the most rows any one of them misses, not for every row some pixel missed.
+    // Rows that cannot be reused are marked in a 128-bit set (n <= 127) and read from the depth map
+    // afterwards (takeLowestBit).
     uvec4 missed = uvec4(0u);
     for (int t = -r; t <= r; ++t) {
         vec4 clip = clip0 + float(t) * clipStep;
@@ -56,30 +60,16 @@ void main() {
             missed = markBit(missed, t + r);
         }
     }
-    for (int word = 0; word < 4; ++word) {
-        uint bits = missed[word];
-        while (bits != 0u) {
-            int t = word * 32 + findLSB(bits) - r;
-            bits &= bits - 1u;
-            for (int x = -r; x <= r; ++x) {
-                vec2 offset = vec2(x, t);
-                acc = accumulateBlocker(acc, storedDepthOffset(receiver, offset), d, tapBias(receiver, plane, offset));
-            }
+    while (any(notEqual(missed, uvec4(0u)))) {
+        int t = takeLowestBit(missed) - r;
+        for (int x = -r; x <= r; ++x) {
+            vec2 offset = vec2(x, t);
+            acc = accumulateBlocker(acc, storedDepthOffset(receiver, offset), d, tapBias(receiver, plane, offset));
         }
     }
     reuse = float(reused) / float(2 * r + 1);
     float zAvg = averageBlockerDepth(acc);
     float wPenumbra = penumbraWidth(lightWidthWorld, d, zAvg);  // eq. 1
-    if (wPenumbra <= 0.0) {  // "if (penumbra == 0) soft_shadow_value = hard_shadow_value"
-        penumbra = vec4(zAvg, 0.0, 1.0, 1.0);
-        return;
-    }
-    Surface s = surfaceAt(pixel, texelFetch(hardShadows, pixel, 0).r);
-    float kx = penumbraKernelPixels(wPenumbra, worldPerPixel(s, ivec2(1, 0)), filterKernel);
-    float ky = penumbraKernelPixels(wPenumbra, worldPerPixel(s, ivec2(0, 1)), filterKernel);
-    penumbra = vec4(zAvg, wPenumbra, kx, ky);
-
-    // Horizontal blur of the hard shadows (partial_soft_shadow): a tap whose pixel shows another
-    // surface (beta) or lies off screen is sampled from the shadow map on this pixel's plane.
-    horizontal = blurRow(s, pixel, kx);
+    // "if (penumbra == 0) soft_shadow_value = hard_shadow_value": then the blur draw skips the pixel.
+    penumbra = vec2(zAvg, wPenumbra);
 }

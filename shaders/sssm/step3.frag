@@ -1,24 +1,21 @@
 // SSSM step 3 (buades2015 sec. 4.2, Table 1 "Step3"): the vertical blur. Row t of the m x m kernel
 // reuses the horizontal blur of step 2 at (x, y + t) when that pixel's camera depth, adjusted by
 // this pixel's normal (its tangent plane), is within beta; otherwise the row is filtered again from
-// the hard shadows, and from the shadow map where the screen does not show this surface.
+// the hard shadows, and from the shadow map where the screen does not show this surface. Pixels
+// without a penumbra are discarded: the pass's first draw (keep_hard.frag) gave them the hard shadow.
 #include "sssm_blur.glsl"
-uniform sampler2D penumbras;    // step 2: (z_avg, w_penumbra, kernel x, kernel y)
+uniform sampler2D penumbras;    // step 2: (z_avg, w_penumbra)
+uniform sampler2D kernels;      // step 2: kernel width in x and y (pixels)
 uniform sampler2D horizontals;  // step 2: horizontal blur
 layout(location = 0) out float visibility;
 layout(location = 1) out float reuse;  // fraction of the rows taken from step 2 (-1: no filtering)
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    visibility = 1.0;
-    reuse = -1.0;
-    vec4 pen = texelFetch(penumbras, pixel, 0);
-    if (pen.y <= 0.0) {  // no penumbra (or background, where step 1 wrote 1): the hard shadow
-        visibility = texelFetch(hardShadows, pixel, 0).r;
-        return;
-    }
+    if (texelFetch(penumbras, pixel, 0).y <= 0.0) discard;  // "soft_shadow_value = hard_shadow_value"
     Surface s = surfaceAt(pixel, texelFetch(hardShadows, pixel, 0).r);
-    float kx = pen.z, ky = pen.w;
+    vec2 k = texelFetch(kernels, pixel, 0).xy;
+    float kx = k.x, ky = k.y;
     int ry = kernelRadius(ky);
     float sum = 0.0, weights = 0.0;
     int reused = 0;
@@ -37,13 +34,9 @@ void main() {
         }
         if (!ok) missed = markBit(missed, t + ry);
     }
-    for (int word = 0; word < 4; ++word) {
-        uint bits = missed[word];
-        while (bits != 0u) {
-            int t = word * 32 + findLSB(bits) - ry;
-            bits &= bits - 1u;
-            sum += kernelWeight(float(t), ky, filterKind, sigma) * blurRow(s, pixel + ivec2(0, t), kx);
-        }
+    while (any(notEqual(missed, uvec4(0u)))) {
+        int t = takeLowestBit(missed) - ry;
+        sum += kernelWeight(float(t), ky, filterKind, sigma) * blurRow(s, pixel + ivec2(0, t), kx);
     }
     visibility = sum / weights;
     reuse = float(reused) / float(2 * ry + 1);

@@ -38,10 +38,17 @@ void setCommonUniforms(PassContext& ctx, const ShaderProgram& program, const Tex
 
 int filterKind(PassContext& ctx) { return ctx.paramChoice("filter") == "mean" ? 1 : 0; }
 
-// A pass drawing one full-screen triangle into the textures it names.
-class FullscreenPass : public Pass {
-protected:
-    void bindTargets(PassContext& ctx, const std::vector<std::string>& names) {
+void setBlurUniforms(PassContext& ctx, const ShaderProgram& program) {
+    program.set("beta", float(ctx.param("beta")));
+    program.set("filterKind", filterKind(ctx));
+    program.set("sigma", float(ctx.param("sigma")));
+}
+
+// The framebuffer of a full-screen draw into the textures it names (rebuilt when the pool
+// reallocates them).
+class Targets {
+public:
+    void bind(PassContext& ctx, const std::vector<std::string>& names) {
         std::vector<Texture*> targets;
         std::vector<GLuint> ids;
         for (const std::string& n : names) {
@@ -61,66 +68,91 @@ private:
 };
 
 // Step 1: hard shadows and horizontal blocker rows (partial_blocker_sum, partial_blocker_count).
-class Step1Pass : public FullscreenPass {
+class Step1Pass : public Pass {
 public:
     void execute(PassContext& ctx) override {
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "sssm/step1.frag");
         program.use();
         setCommonUniforms(ctx, program, ctx.texture(shadowTestMap(ctx)));
         program.set("blockerKernel", float(ctx.paramInt("blocker_kernel")));
-        bindTargets(ctx, {"hard_shadow", "blocker_rows"});
+        targets_.bind(ctx, {"hard_shadow", "blocker_rows"});
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
+
+private:
+    Targets targets_;
 };
 
-// Step 2: blocker average (alpha reuse), penumbra size, horizontal blur.
-class Step2Pass : public FullscreenPass {
+// Step 2: blocker average (alpha reuse) and eq. 1 for every pixel; then, in a second draw over the
+// pixels with a penumbra only, the kernel size and the horizontal blur.
+class Step2Pass : public Pass {
 public:
     void execute(PassContext& ctx) override {
-        const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "sssm/step2.frag");
-        program.use();
-        setCommonUniforms(ctx, program, ctx.texture(shadowTestMap(ctx)));
+        const Texture& map = ctx.texture(shadowTestMap(ctx));
+        const ShaderProgram& average = ctx.programs().get("common/fullscreen.vert", "sssm/step2.frag");
+        average.use();
+        setCommonUniforms(ctx, average, map);
         const Camera& camera = ctx.camera();
         float aspect = float(ctx.width()) / float(ctx.height());
-        program.set("cameraClipFromWorld", camera.clipFromView(aspect) * camera.viewFromWorld());
+        average.set("cameraClipFromWorld", camera.clipFromView(aspect) * camera.viewFromWorld());
         glm::mat4 worldFromLight = glm::inverse(ctx.lightView().viewFromWorld);
-        program.set("lightUpWorld", glm::normalize(glm::vec3(worldFromLight[1])));
-        program.set("alpha", float(ctx.param("alpha")));
-        program.set("beta", float(ctx.param("beta")));
-        program.set("filterKernel", float(ctx.paramInt("filter_kernel")));
-        program.set("filterKind", filterKind(ctx));
-        program.set("sigma", float(ctx.param("sigma")));
+        average.set("lightUpWorld", glm::normalize(glm::vec3(worldFromLight[1])));
+        average.set("alpha", float(ctx.param("alpha")));
         glBindTextureUnit(4, ctx.texture("blocker_rows").id());
-        program.set("blockerRows", 4);
+        average.set("blockerRows", 4);
         glBindTextureUnit(5, ctx.texture("hard_shadow").id());
-        program.set("hardShadows", 5);
-        bindTargets(ctx, {"penumbra", "horizontal_blur", "reuse_step2"});
+        average.set("hardShadows", 5);
+        averageTargets_.bind(ctx, {"penumbra", "kernel_size", "horizontal_blur", "reuse_step2"});
+        drawFullscreenTriangle();
+
+        const ShaderProgram& blur = ctx.programs().get("common/fullscreen.vert", "sssm/step2_blur.frag");
+        blur.use();
+        setCommonUniforms(ctx, blur, map);
+        setBlurUniforms(ctx, blur);
+        blur.set("filterKernel", float(ctx.paramInt("filter_kernel")));
+        glBindTextureUnit(4, ctx.texture("penumbra").id());
+        blur.set("penumbras", 4);
+        glBindTextureUnit(5, ctx.texture("hard_shadow").id());
+        blur.set("hardShadows", 5);
+        blurTargets_.bind(ctx, {"kernel_size", "horizontal_blur"});
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
+
+private:
+    Targets averageTargets_, blurTargets_;
 };
 
-// Step 3: vertical blur (beta reuse): the visibility.
-class Step3Pass : public FullscreenPass {
+// Step 3: vertical blur (beta reuse): the visibility. A first draw gives every pixel its hard
+// shadow; the second overwrites the pixels with a penumbra.
+class Step3Pass : public Pass {
 public:
     void execute(PassContext& ctx) override {
+        targets_.bind(ctx, {"visibility", "reuse_step3"});
+        const ShaderProgram& keep = ctx.programs().get("common/fullscreen.vert", "sssm/keep_hard.frag");
+        keep.use();
+        glBindTextureUnit(4, ctx.texture("hard_shadow").id());
+        keep.set("hardShadows", 4);
+        drawFullscreenTriangle();
+
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "sssm/step3.frag");
         program.use();
         setCommonUniforms(ctx, program, ctx.texture(shadowTestMap(ctx)));
-        program.set("beta", float(ctx.param("beta")));
-        program.set("filterKind", filterKind(ctx));
-        program.set("sigma", float(ctx.param("sigma")));
-        glBindTextureUnit(4, ctx.texture("hard_shadow").id());
+        setBlurUniforms(ctx, program);
         program.set("hardShadows", 4);
         glBindTextureUnit(5, ctx.texture("penumbra").id());
         program.set("penumbras", 5);
         glBindTextureUnit(6, ctx.texture("horizontal_blur").id());
         program.set("horizontals", 6);
-        bindTargets(ctx, {"visibility", "reuse_step3"});
+        glBindTextureUnit(7, ctx.texture("kernel_size").id());
+        program.set("kernels", 7);
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
+
+private:
+    Targets targets_;
 };
 
 InternalDesc imageInternal(const std::string& name, const std::string& resource, std::vector<std::string> channels,
@@ -198,8 +230,10 @@ const TechniqueDesc& sssmTechnique() {
                               "hard_shadow", "blocker_rows"})
             step2.reads.push_back(r);
         step2.creates = {
-            ResourceDesc::texture("penumbra", Format::RGBA32F, SizeRule::frame(),
-                                  "average blocker depth z_avg (-1: none), penumbra width (world), kernel x and y (pixels)"),
+            ResourceDesc::texture("penumbra", Format::RG32F, SizeRule::frame(),
+                                  "average blocker depth z_avg (-1: none) and eq. 1 penumbra width (world)"),
+            ResourceDesc::texture("kernel_size", Format::RG32F, SizeRule::frame(),
+                                  "screen-space blur kernel width in x and y (pixels; 1 = no penumbra)"),
             ResourceDesc::texture("horizontal_blur", Format::R32F, SizeRule::frame(),
                                   "hard shadows blurred horizontally (partial_soft_shadow)"),
             ResourceDesc::texture("reuse_step2", Format::R32F, SizeRule::frame(),
@@ -211,7 +245,8 @@ const TechniqueDesc& sssmTechnique() {
         step3.name = "step3";
         step3.doc = "Step3 of Table 1: vertical blur reusing horizontal rows within beta (normal-adjusted)";
         step3.reads = common;
-        for (const char* r : {"param:beta", "param:filter", "param:sigma", "hard_shadow", "penumbra", "horizontal_blur"})
+        for (const char* r : {"param:beta", "param:filter", "param:sigma", "hard_shadow", "penumbra", "kernel_size",
+                              "horizontal_blur"})
             step3.reads.push_back(r);
         step3.creates = {visibilityResource(),
                          ResourceDesc::texture("reuse_step3", Format::R32F, SizeRule::frame(),
@@ -228,10 +263,10 @@ const TechniqueDesc& sssmTechnique() {
                                             {"light_depth", "partial_sum", "partial_count", "search_width"},
                                             "step 1's horizontal blocker buffer; search_width is the blocker-search "
                                             "width n per pixel (texels)"));
-        d.internals.push_back(imageInternal("penumbra", "penumbra",
-                                            {"avg_blocker_depth", "penumbra_width", "kernel_x", "kernel_y"},
-                                            "step 2: average blocker depth (-1: none), eq. 1 penumbra width (world) and "
-                                            "the screen kernel size per pixel (pixels)"));
+        d.internals.push_back(imageInternal("penumbra", "penumbra", {"avg_blocker_depth", "penumbra_width"},
+                                            "step 2: average blocker depth (-1: none) and eq. 1 penumbra width (world)"));
+        d.internals.push_back(imageInternal("kernel_size", "kernel_size", {"kernel_x", "kernel_y"},
+                                            "step 2: the screen-space kernel size per pixel (pixels; 1 = no penumbra)"));
         d.internals.push_back(imageInternal("horizontal_blur", "horizontal_blur", {"visibility"},
                                             "step 2's horizontal buffer: hard shadows blurred along x"));
         d.internals.push_back(imageInternal("reuse_step2", "reuse_step2", {"fraction"},
