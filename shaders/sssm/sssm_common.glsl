@@ -44,13 +44,22 @@ Surface surfaceAt(ivec2 pixel, float hard) {
     s.world = worldPosition(pixel);
     s.normal = worldNormal(pixel);
     s.hard = hard;
-    s.bias = prepareShadowReceiver(s.world, s.normal).bias;
     vec3 pView = (cameraViewFromWorld * vec4(s.world, 1.0)).xyz;
     vec3 nView = normalize(mat3(cameraViewFromWorld) * s.normal);
     vec2 ndc0 = pixelNdc(vec2(pixel) + 0.5);
     vec3 inv = planeInverseDepth(pView, nView, ndc0, cameraTanHalfFovY, cameraAspect);
     vec2 invStep = inv.yz * 2.0 / viewportSize;  // d ndc / d pixel = 2 / size
     s.invDepthFromPixel = vec3(invStep, inv.x - dot(invStep, vec2(pixel)));
+    s.bias = 0.0;
+    s.lightClipFromPixel = mat3x4(0.0);
+    s.lightDepthFromPixel = vec3(0.0);
+    return s;
+}
+
+// What hardShadowOnPlane needs besides the plane: the pixel's bias and the homography from pixels
+// to the light.
+Surface withLightLookups(Surface s) {
+    s.bias = prepareShadowReceiver(s.world, s.normal).bias;
     // Ray direction under pixel q (centre q + 0.5): (ndc.x tan aspect, ndc.y tan, -1), affine in q.
     float tx = cameraTanHalfFovY * cameraAspect, ty = cameraTanHalfFovY;
     mat3x4 hFromPixel = mat3x4(vec4(2.0 * tx / viewportSize.x, 0.0, 0.0, s.invDepthFromPixel.x),

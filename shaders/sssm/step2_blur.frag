@@ -13,7 +13,7 @@ void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     float wPenumbra = texelFetch(penumbras, pixel, 0).y;
     if (wPenumbra <= 0.0) discard;
-    Surface s = surfaceAt(pixel, texelFetch(hardShadows, pixel, 0).r);
+    Surface s = withLightLookups(surfaceAt(pixel, texelFetch(hardShadows, pixel, 0).r));
     // The penumbra's width divided by the world length of a pixel step on the pixel's tangent plane.
     kernel = vec2(penumbraKernelPixels(wPenumbra, worldPerPixel(s, ivec2(1, 0)), filterKernel),
                   penumbraKernelPixels(wPenumbra, worldPerPixel(s, ivec2(0, 1)), filterKernel));

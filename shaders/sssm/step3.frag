@@ -13,7 +13,7 @@ layout(location = 1) out float reuse;  // fraction of the rows taken from step 2
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     if (texelFetch(penumbras, pixel, 0).y <= 0.0) discard;  // "soft_shadow_value = hard_shadow_value"
-    Surface s = surfaceAt(pixel, texelFetch(hardShadows, pixel, 0).r);
+    Surface s = withLightLookups(surfaceAt(pixel, texelFetch(hardShadows, pixel, 0).r));
     vec2 k = texelFetch(kernels, pixel, 0).xy;
     float kx = k.x, ky = k.y;
     int ry = kernelRadius(ky);
