@@ -9,17 +9,12 @@ layout(location = 0) out float visibility;
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    if (isBackground(pixel)) {
-        visibility = 1.0;
-        return;
-    }
+    // No blocker (and background): "considered as being totally illuminated" (buades2015 sec.
+    // 4.2): the pass's clear value 1 stays (discarded, see blocker_search.frag).
     vec4 b = texelFetch(blockers, pixel, 0);
+    if (b.x < 0.0) discard;
     ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));
     TapPlane plane = tapPlane(receiver, worldPosition(pixel), worldNormal(pixel));
-    if (b.x < 0.0) {  // no blocker: "considered as being totally illuminated" (buades2015 sec. 4.2)
-        visibility = 1.0;
-        return;
-    }
     float kernel = b.w;
     if (pattern == PATTERN_POISSON) {
         float lit = 0.0;

@@ -10,9 +10,11 @@ layout(location = 1) out vec4 blockerRows;  // (d, partial_blocker_sum, partial_
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
+    // Background keeps the pass's clear values: hard shadow 1, camera depth -1, and light depth
+    // -1e30, a depth no receiver is within alpha of (discarded: see pcss/blocker_search.frag).
+    if (isBackground(pixel)) discard;
     hardShadow = vec2(1.0, -1.0);
-    blockerRows = vec4(-1e30, 0.0, 0.0, 0.0);  // no receiver: a depth no other can be within alpha of
-    if (isBackground(pixel)) return;
+    blockerRows = vec4(-1e30, 0.0, 0.0, 0.0);
     // The camera depth rides along, so steps 2 and 3 test beta with the fetch that reads the shadow.
     hardShadow.y = cameraDepth(worldPosition(pixel));
     ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));

@@ -19,12 +19,13 @@ layout(location = 3) out float reuse;       // fraction of the n rows taken from
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec4 own = texelFetch(blockerRows, pixel, 0);
-    float hard = texelFetch(hardShadows, pixel, 0).r;
+    // Background or outside the light frustum (step 1's marker): lit, the pass's clear values
+    // (penumbra (-1, 0), kernel 1, horizontal 1, reuse -1) stay.
+    if (own.x < 0.0) discard;
     penumbra = vec2(-1.0, 0.0);
     kernel = vec2(1.0);
-    horizontal = hard;
+    horizontal = texelFetch(hardShadows, pixel, 0).r;
     reuse = -1.0;
-    if (own.x < 0.0) return;  // background or outside the light frustum (step 1's marker)
     float d = own.x;
     vec3 p = worldPosition(pixel);
     ShadowReceiver receiver = prepareShadowReceiver(p, worldNormal(pixel));

@@ -67,6 +67,8 @@ public:
         glBindTextureUnit(3, map.id());
         program.set("shadowMap", 3);
         fbo_.bind(ctx.width(), ctx.height());
+        const float none[4] = {-1.0f, 0.0f, 0.0f, 0.0f};  // what discarded pixels keep: no blocker
+        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, none);
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
@@ -95,6 +97,8 @@ public:
         glBindTextureUnit(4, ctx.texture("pcss_blockers").id());
         program.set("blockers", 4);
         fbo_.bind(ctx.width(), ctx.height());
+        const float lit[4] = {1.0f, 0.0f, 0.0f, 0.0f};  // what discarded pixels keep
+        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, lit);
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }

@@ -61,6 +61,8 @@ public:
         }
         fbo_.bind(ctx.width(), ctx.height());
     }
+    // Clears draw buffer `index` to `value`: what the pixels a shader discards keep.
+    void clear(int index, glm::vec4 value) { glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, index, &value.x); }
 
 private:
     Framebuffer fbo_;
@@ -76,6 +78,8 @@ public:
         setCommonUniforms(ctx, program, ctx.texture(shadowTestMap(ctx)));
         program.set("blockerKernel", float(ctx.paramInt("blocker_kernel")));
         targets_.bind(ctx, {"hard_shadow", "blocker_rows"});
+        targets_.clear(0, glm::vec4(1.0f, -1.0f, 0.0f, 0.0f));    // background: lit, no camera depth
+        targets_.clear(1, glm::vec4(-1e30f, 0.0f, 0.0f, 0.0f));   // no receiver
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
@@ -104,6 +108,10 @@ public:
         glBindTextureUnit(5, ctx.texture("hard_shadow").id());
         average.set("hardShadows", 5);
         averageTargets_.bind(ctx, {"penumbra", "kernel_size", "horizontal_blur", "reuse_step2"});
+        averageTargets_.clear(0, glm::vec4(-1.0f, 0.0f, 0.0f, 0.0f));  // no blocker, no penumbra
+        averageTargets_.clear(1, glm::vec4(1.0f));                       // kernel 1: none
+        averageTargets_.clear(2, glm::vec4(1.0f));                       // lit
+        averageTargets_.clear(3, glm::vec4(-1.0f));                      // no receiver
         drawFullscreenTriangle();
 
         const ShaderProgram& blur = ctx.programs().get("common/fullscreen.vert", "sssm/step2_blur.frag");
