@@ -115,10 +115,12 @@ float hardShadowOnPlane(Surface s, ivec2 q) {
     return shadowDepthTest(z, texelFetch(shadowMap, texel, 0).r, s.bias);
 }
 
-// Marks bit i (0 <= i < 128) of a 128-bit set.
+// Marks bit i (0 <= i < 128) of a 128-bit set. Selects, not set[i >> 5]: an index that differs
+// between the pixels of a group is slow on a CPU rasteriser.
 uvec4 markBit(uvec4 set, int i) {
-    set[i >> 5] |= 1u << uint(i & 31);
-    return set;
+    uint bit = 1u << uint(i & 31);
+    int w = i >> 5;
+    return set | uvec4(w == 0 ? bit : 0u, w == 1 ? bit : 0u, w == 2 ? bit : 0u, w == 3 ? bit : 0u);
 }
 
 // Removes the lowest bit of a non-empty set and returns its index. Walking a set with
@@ -126,9 +128,14 @@ uvec4 markBit(uvec4 set, int i) {
 // rasteriser (which runs all branches of a group) as many turns as its fullest set, where
 // `if (missed) work` inside a loop would cost one turn per element any pixel missed.
 int takeLowestBit(inout uvec4 set) {
-    int w = set.x != 0u ? 0 : (set.y != 0u ? 1 : (set.z != 0u ? 2 : 3));
-    uint bits = set[w];
-    set[w] = bits & (bits - 1u);
-    return w * 32 + findLSB(bits);
+    bool inX = set.x != 0u;
+    bool inY = !inX && set.y != 0u;
+    bool inZ = !inX && !inY && set.z != 0u;
+    bool inW = !inX && !inY && !inZ;
+    uint bits = inX ? set.x : (inY ? set.y : (inZ ? set.z : set.w));
+    int base = inX ? 0 : (inY ? 32 : (inZ ? 64 : 96));
+    uint rest = bits & (bits - 1u);
+    set = uvec4(inX ? rest : set.x, inY ? rest : set.y, inZ ? rest : set.z, inW ? rest : set.w);
+    return base + findLSB(bits);
 }
 #endif
