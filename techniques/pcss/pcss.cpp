@@ -35,6 +35,51 @@ const std::array<glm::vec2, 32>& poissonDisk32() {
     return disk;
 }
 
+ResourceDesc markResource(const std::string& name, const std::string& doc) {
+    return ResourceDesc::texture(name, Format::DEPTH32F_STENCIL8, SizeRule::frame(), doc);
+}
+
+void drawStencilMarks(PassContext& ctx, int where, int channel, float above) {
+    std::vector<std::string> defines;
+    if (channel < 0)
+        defines.push_back("MARK_GEOMETRY");
+    else
+        defines.push_back("MARK_CHANNEL " + std::to_string(channel));
+    const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/mark.frag", defines);
+    program.use();
+    if (channel < 0) {
+        ctx.bindGBuffer(program);
+    } else {
+        program.set("marks", 4);
+        program.set("markAbove", above);
+    }
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glEnable(GL_STENCIL_TEST);
+    glStencilMask(0xFF);
+    if (where < 0) {
+        glStencilFunc(GL_ALWAYS, 1, 0xFF);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    } else {
+        glStencilFunc(GL_EQUAL, where, 0xFF);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+    }
+    drawFullscreenTriangle();
+    glDisable(GL_STENCIL_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+void beginStencilTest(int value) {
+    glEnable(GL_STENCIL_TEST);
+    glStencilFunc(GL_EQUAL, value, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    glStencilMask(0x00);
+}
+
+void endStencilTest() {
+    glDisable(GL_STENCIL_TEST);
+    glStencilMask(0xFF);
+}
+
 namespace {
 
 void setPcssUniforms(PassContext& ctx, const ShaderProgram& program, const Texture& map) {
@@ -53,10 +98,15 @@ class BlockerSearchPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
         Texture& out = ctx.texture("pcss_blockers");
-        if (fboTexture_ != out.id()) {
-            fbo_ = Framebuffer({&out}, nullptr);
+        Texture& mask = ctx.texture("pcss_mask");
+        if (fboTexture_ != out.id() || fboMask_ != mask.id()) {
+            fbo_ = Framebuffer({&out}, &mask);
             fboTexture_ = out.id();
+            fboMask_ = mask.id();
         }
+        fbo_.bind(ctx.width(), ctx.height());
+        glClearNamedFramebufferfi(fbo_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+        drawStencilMarks(ctx, -1);  // 1: geometry
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/blocker_search.frag");
         program.use();
         const Texture& map = ctx.texture(shadowTestMap(ctx));
@@ -66,16 +116,17 @@ public:
         ctx.bindGBuffer(program);
         glBindTextureUnit(3, map.id());
         program.set("shadowMap", 3);
-        fbo_.bind(ctx.width(), ctx.height());
-        const float none[4] = {-1.0f, 0.0f, 0.0f, 0.0f};  // what discarded pixels keep: no blocker
+        const float none[4] = {-1.0f, 0.0f, 0.0f, 0.0f};  // what skipped pixels keep: no blocker
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, none);
+        beginStencilTest(1);
         drawFullscreenTriangle();
+        endStencilTest();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
 private:
     Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
+    GLuint fboTexture_ = 0, fboMask_ = 0;
 };
 
 // Step 2: PCF over the kernel of step 1.
@@ -83,10 +134,15 @@ class FilterPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
         Texture& visibility = ctx.texture("visibility");
-        if (fboTexture_ != visibility.id()) {
-            fbo_ = Framebuffer({&visibility}, nullptr);
+        Texture& mask = ctx.texture("pcss_mask");
+        if (fboTexture_ != visibility.id() || fboMask_ != mask.id()) {
+            fbo_ = Framebuffer({&visibility}, &mask);
             fboTexture_ = visibility.id();
+            fboMask_ = mask.id();
         }
+        fbo_.bind(ctx.width(), ctx.height());
+        glBindTextureUnit(4, ctx.texture("pcss_blockers").id());
+        drawStencilMarks(ctx, 1, 0, -0.5f);  // 2: geometry with a blocker (z_avg >= 0)
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/filter.frag");
         program.use();
         const Texture& map = ctx.texture(shadowTestMap(ctx));
@@ -96,16 +152,17 @@ public:
         program.set("shadowMap", 3);
         glBindTextureUnit(4, ctx.texture("pcss_blockers").id());
         program.set("blockers", 4);
-        fbo_.bind(ctx.width(), ctx.height());
-        const float lit[4] = {1.0f, 0.0f, 0.0f, 0.0f};  // what discarded pixels keep
+        const float lit[4] = {1.0f, 0.0f, 0.0f, 0.0f};  // what skipped pixels keep
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, lit);
+        beginStencilTest(2);
         drawFullscreenTriangle();
+        endStencilTest();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
 private:
     Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
+    GLuint fboTexture_ = 0, fboMask_ = 0;
 };
 
 }  // namespace
@@ -160,9 +217,11 @@ const TechniqueDesc& pcssTechnique() {
         search.reads = common;
         search.reads.push_back("param:blocker_kernel");
         search.reads.push_back("param:filter_kernel");
-        search.creates = {ResourceDesc::texture(
-            "pcss_blockers", Format::RGBA32F, SizeRule::frame(),
-            "per pixel: average blocker depth z_avg (-1: none), blocker count, search width and filter kernel (texels)")};
+        search.creates = {
+            ResourceDesc::texture(
+                "pcss_blockers", Format::RGBA32F, SizeRule::frame(),
+                "per pixel: average blocker depth z_avg (-1: none), blocker count, search width and filter kernel (texels)"),
+            markResource("pcss_mask", "stencil marks: 1 geometry, 2 with a blocker (the pixels each draw shades)")};
         search.soft = true;
         search.create = [] { return std::make_unique<BlockerSearchPass>(); };
 
@@ -171,6 +230,7 @@ const TechniqueDesc& pcssTechnique() {
         filter.doc = "PCF over the penumbra kernel of the blocker search (<= m x m texels)";
         filter.reads = common;
         filter.reads.push_back("pcss_blockers");
+        filter.modifies = {"pcss_mask"};
         filter.creates = {visibilityResource()};
         filter.soft = true;
         filter.create = [] { return std::make_unique<FilterPass>(); };

@@ -23,3 +23,21 @@ ParamDesc blockerKernelParam();
 ParamDesc filterKernelParam(const std::string& unit);
 
 }  // namespace shadowlab
+
+namespace shadowlab {
+
+// Stencil marks shared by pcss and sssm (shaders/pcss/mark.frag): a frame-size DEPTH32F_STENCIL8
+// resource whose stencil says which pixels a draw has work for, tested before shading so that a CPU
+// rasteriser skips whole groups of pixels (a branch inside the shader would not).
+ResourceDesc markResource(const std::string& name, const std::string& doc);
+// Draws mark.frag into the bound framebuffer (whose depth-stencil is the mark resource), colour
+// writes off. where < 0: the stencil becomes 1 where the shader keeps the pixel; else, where the
+// stencil equals `where` and the shader keeps the pixel, it becomes where + 1. channel < 0: keep
+// pixels showing geometry; else pixels whose `marks` texel (bound to unit 4) has that channel above
+// `above`.
+void drawStencilMarks(PassContext& ctx, int where, int channel = -1, float above = 0.0f);
+// Until endStencilTest(): draws shade only the pixels whose stencil equals `value`.
+void beginStencilTest(int value);
+void endStencilTest();
+
+}  // namespace shadowlab

@@ -48,6 +48,7 @@ void setBlurUniforms(PassContext& ctx, const ShaderProgram& program) {
 // reallocates them).
 class Targets {
 public:
+    // Colour targets `names`, and the stencil marks of sssm_mask (pcss.h) as depth-stencil.
     void bind(PassContext& ctx, const std::vector<std::string>& names) {
         std::vector<Texture*> targets;
         std::vector<GLuint> ids;
@@ -55,12 +56,15 @@ public:
             targets.push_back(&ctx.texture(n));
             ids.push_back(targets.back()->id());
         }
+        Texture& mask = ctx.texture("sssm_mask");
+        ids.push_back(mask.id());
         if (ids != ids_) {
-            fbo_ = Framebuffer(std::vector<const Texture*>(targets.begin(), targets.end()), nullptr);
+            fbo_ = Framebuffer(std::vector<const Texture*>(targets.begin(), targets.end()), &mask);
             ids_ = ids;
         }
         fbo_.bind(ctx.width(), ctx.height());
     }
+    void clearStencil() { glClearNamedFramebufferfi(fbo_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0); }
     // Clears draw buffer `index` to `value`: what the pixels a shader discards keep.
     void clear(int index, glm::vec4 value) { glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, index, &value.x); }
 
@@ -80,7 +84,12 @@ public:
         targets_.bind(ctx, {"hard_shadow", "blocker_rows"});
         targets_.clear(0, glm::vec4(1.0f, -1.0f, 0.0f, 0.0f));    // background: lit, no camera depth
         targets_.clear(1, glm::vec4(-1e30f, 0.0f, 0.0f, 0.0f));   // no receiver
+        targets_.clearStencil();
+        drawStencilMarks(ctx, -1);  // 1: geometry
+        program.use();
+        beginStencilTest(1);
         drawFullscreenTriangle();
+        endStencilTest();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
@@ -112,7 +121,9 @@ public:
         averageTargets_.clear(1, glm::vec4(1.0f));                       // kernel 1: none
         averageTargets_.clear(2, glm::vec4(1.0f));                       // lit
         averageTargets_.clear(3, glm::vec4(-1.0f));                      // no receiver
+        beginStencilTest(1);
         drawFullscreenTriangle();
+        endStencilTest();
 
         const ShaderProgram& blur = ctx.programs().get("common/fullscreen.vert", "sssm/step2_blur.frag");
         blur.use();
@@ -124,7 +135,12 @@ public:
         glBindTextureUnit(5, ctx.texture("hard_shadow").id());
         blur.set("hardShadows", 5);
         blurTargets_.bind(ctx, {"kernel_size", "horizontal_blur"});
+        glBindTextureUnit(4, ctx.texture("penumbra").id());
+        drawStencilMarks(ctx, 1, 1, 0.0f);  // 2: a penumbra (w_penumbra > 0)
+        blur.use();
+        beginStencilTest(2);
         drawFullscreenTriangle();
+        endStencilTest();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
@@ -155,7 +171,9 @@ public:
         program.set("horizontals", 6);
         glBindTextureUnit(7, ctx.texture("kernel_size").id());
         program.set("kernels", 7);
+        beginStencilTest(2);
         drawFullscreenTriangle();
+        endStencilTest();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
@@ -226,7 +244,8 @@ const TechniqueDesc& sssmTechnique() {
                                   "hard shadow of each pixel (HardShadowMap) and its camera depth (-1: background)"),
             ResourceDesc::texture("blocker_rows", Format::RGBA32F, SizeRule::frame(),
                                   "horizontal blocker info: light depth d, partial_blocker_sum, partial_blocker_count, "
-                                  "search width n (texels)")};
+                                  "search width n (texels)"),
+            markResource("sssm_mask", "stencil marks: 1 geometry, 2 with a penumbra (the pixels each draw shades)")};
         step1.soft = true;
         step1.create = [] { return std::make_unique<Step1Pass>(); };
 
@@ -246,6 +265,7 @@ const TechniqueDesc& sssmTechnique() {
                                   "hard shadows blurred horizontally (partial_soft_shadow)"),
             ResourceDesc::texture("reuse_step2", Format::R32F, SizeRule::frame(),
                                   "fraction of blocker rows reused from step 1 (-1: no receiver)")};
+        step2.modifies = {"sssm_mask"};
         step2.soft = true;
         step2.create = [] { return std::make_unique<Step2Pass>(); };
 
@@ -254,7 +274,7 @@ const TechniqueDesc& sssmTechnique() {
         step3.doc = "Step3 of Table 1: vertical blur reusing horizontal rows within beta (normal-adjusted)";
         step3.reads = common;
         for (const char* r : {"param:beta", "param:filter", "param:sigma", "hard_shadow", "penumbra", "kernel_size",
-                              "horizontal_blur"})
+                              "horizontal_blur", "sssm_mask"})
             step3.reads.push_back(r);
         step3.creates = {visibilityResource(),
                          ResourceDesc::texture("reuse_step3", Format::R32F, SizeRule::frame(),
