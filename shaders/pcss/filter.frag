@@ -32,5 +32,5 @@ void main() {
             weights += w;
         }
     }
-    visibility = lit / weights;
+    visibility = clamp(lit / weights, 0.0, 1.0);  // float rounding of the weights can pass 1 by an ulp
 }

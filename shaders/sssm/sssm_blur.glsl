@@ -33,6 +33,6 @@ float blurRow(Surface s, ivec2 centre, float width) {
         int i = takeLowestBit(missed) - r;
         sum += kernelWeight(float(i), width, filterKind, sigma) * hardShadowOnPlane(s, centre + ivec2(i, 0));
     }
-    return sum / weights;
+    return clamp(sum / weights, 0.0, 1.0);
 }
 #endif

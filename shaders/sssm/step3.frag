@@ -38,6 +38,6 @@ void main() {
         int t = takeLowestBit(missed) - ry;
         sum += kernelWeight(float(t), ky, filterKind, sigma) * blurRow(s, pixel + ivec2(0, t), kx);
     }
-    visibility = sum / weights;
+    visibility = clamp(sum / weights, 0.0, 1.0);  // float rounding of the weights can pass 1 by an ulp
     reuse = float(reused) / float(2 * ry + 1);
 }
