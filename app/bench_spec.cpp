@@ -131,14 +131,19 @@ BenchSpec loadBenchSpec(const std::string& path) {
     spec.warmup = int(top.integer("warmup", 2, 0, 1000));
     if (top.find("reference")) spec.reference = parseReferenceSpec(top.string("reference"), r.place("reference"));
 
-    const json& runs = top.require("runs", "an array of runs, or \"all\"");
-    if (runs.is_string() && runs.get<std::string>() == "all") {
-        // Every registered technique at its defaults: the list grows as techniques land.
-        for (const TechniqueDesc* d : allTechniques()) spec.runs.push_back(RunSpec{d->id, {}, {}});
-    } else {
-        if (!runs.is_array() || runs.empty()) r.fail("runs", "a non-empty array of runs, or \"all\"", describeJson(runs));
-        for (size_t i = 0; i < runs.size(); ++i) {
-            const std::string p = elementPath("runs", i);
+    // "runs": an array of runs; the string "all" (alone or as an element) stands for every registered
+    // technique at its defaults, so the list grows as techniques land.
+    const json& runsField = top.require("runs", "an array of runs, or \"all\"");
+    const json runs = runsField.is_string() ? json::array({runsField}) : runsField;
+    if (!runs.is_array() || runs.empty()) r.fail("runs", "a non-empty array of runs, or \"all\"", describeJson(runsField));
+    for (size_t i = 0; i < runs.size(); ++i) {
+        const std::string p = runsField.is_string() ? std::string("runs") : elementPath("runs", i);
+        if (runs[i].is_string()) {
+            if (runs[i].get<std::string>() != "all") r.fail(p, "a run object or \"all\"", describeJson(runs[i]));
+            for (const TechniqueDesc* d : allTechniques()) spec.runs.push_back(RunSpec{d->id, {}, {}});
+            continue;
+        }
+        {
             const JsonFields f(r, runs[i], p, {"technique", "sweep", "set"});
             RunSpec run;
             run.technique = f.string("technique");

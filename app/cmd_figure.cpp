@@ -239,7 +239,7 @@ struct Cell {
 // Lays the figure out and draws it.
 Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>& cells, float errorMax) {
     const int W = spec.width, H = spec.height;
-    const int ts = spec.textScale > 0 ? spec.textScale : std::max(1, W / 160);
+    const int ts = spec.textScale > 0 ? spec.textScale : std::max(1, W / 128);
     const int pad = 4 * ts, lineH = figure::textHeight(ts) - 2 * ts;
     const int rowsCount = int(spec.rows.size()), colsCount = int(spec.columns.size());
     const bool insetsOn = !spec.insets.empty();
@@ -249,14 +249,15 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
             if (!spec.insets[i].row || *spec.insets[i].row == r) out.push_back({int(i), spec.insets[i]});
         return out;
     };
-    // Each inset strip: the insets side by side, each as wide as W / count, keeping its aspect.
+    // Each inset strip: the insets side by side, each W / max(2, count) wide (centred), keeping its aspect.
+    auto insetWidth = [&](int r) { return W / std::max<int>(2, int(insetsOf(r).size())); };
     auto insetHeight = [&](int r) {
         auto list = insetsOf(r);
         int h = 0;
-        for (const auto& [i, in] : list) h = std::max(h, int(std::lround(double(W) / double(list.size()) * in.h / in.w)));
+        for (const auto& [i, in] : list) h = std::max(h, int(std::lround(double(insetWidth(r)) * in.h / in.w)));
         return list.empty() ? 0 : h + pad;
     };
-    const int labelLines = 3;
+    const int labelLines = 4;
     const int labelH = labelLines * lineH + pad;
     const int titleH = spec.title.empty() ? pad : 2 * lineH + 2 * pad;
     const int headerH = lineH + pad;  // the row's label line
@@ -270,7 +271,7 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
     const int figureW = pad + colsCount * (W + pad);
     Image out(figureW, total + barH, 3);
     figure::fill(out, 0, 0, out.width, out.height, kBackground);
-    if (!spec.title.empty()) figure::text(out, spec.title, pad, pad, ts * 2 > 0 ? std::max(ts, 2 * ts - 1) : ts, kInk);
+    if (!spec.title.empty()) figure::text(out, figure::fitText(spec.title, ts, figureW - 2 * pad), pad, pad, ts, kInk);
 
     for (int r = 0; r < rowsCount; ++r) {
         const FigureRow& row = spec.rows[size_t(r)];
@@ -278,7 +279,7 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
         std::string header = row.label.empty() ? row.scene : row.label;
         header += "  (light size " + fmt("%g", first.lightSize) + ", " + std::to_string(W * spec.supersample) + "x" +
                   std::to_string(H * spec.supersample) + (spec.supersample > 1 ? " rendered, shown at " + std::to_string(W) + "x" + std::to_string(H) : "") + ")";
-        figure::text(out, header, pad, rowTop[size_t(r)] + pad / 2, ts, kInk);
+        figure::text(out, figure::fitText(header, ts, out.width - 2 * pad), pad, rowTop[size_t(r)] + pad / 2, ts, kInk);
         const int imageTop = rowTop[size_t(r)] + headerH;
         const auto insets = insetsOf(r);
         for (int c = 0; c < colsCount; ++c) {
@@ -289,7 +290,8 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
             // Insets: the rectangle marked on the full picture, the zoom beneath it.
             int y = imageTop + H;
             if (!insets.empty()) {
-                const int each = W / int(insets.size());
+                const int each = insetWidth(r);
+                const int stripLeft = left + (W - each * int(insets.size())) / 2;
                 for (size_t k = 0; k < insets.size(); ++k) {
                     const Inset& in = insets[k].second;
                     const Rgb colour = kInsetColours[insets[k].first % 4];
@@ -300,7 +302,7 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
                     const int s = spec.supersample;
                     Image zoomed = figure::zoom(cell.m.image.width ? (spec.show == "image" ? cell.m.image : cell.m.visibility) : cell.picture,
                                                 in.x * s, in.y * s, in.w * s, in.h * s, each - (k + 1 < insets.size() ? ts : 0), zh);
-                    const int zx = left + int(k) * each;
+                    const int zx = stripLeft + int(k) * each;
                     figure::blit(out, zoomed, zx, y + pad / 2);
                     figure::outline(out, zx, y + pad / 2, zx + zoomed.width, y + pad / 2 + zh, std::max(1, ts), colour);
                 }
@@ -313,11 +315,13 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
             if (!cell.m.techniqueRan.empty() && cell.m.techniqueRan != cell.m.setting.technique)
                 name += " (ran " + cell.m.techniqueRan + ")";
             std::string setting = Setting{cell.m.setting.technique, cell.m.setting.sets}.describe();
-            figure::text(out, name, left, y + pad / 2, ts, kInk);
-            figure::text(out, setting, left, y + pad / 2 + lineH, ts, kGreyInk);
-            std::string numbers = "shadow " + fmt("%.2f", cell.labelShadowMs) + " ms";
-            if (cell.error.width) numbers += "  RMSE " + fmt("%.4f", cell.m.all.rmse) + "  SSIM " + fmt("%.3f", cell.m.all.ssim);
-            figure::text(out, numbers, left, y + pad / 2 + 2 * lineH, ts, kGreyInk);
+            auto fit = [&](std::string t) { return figure::fitText(t, ts, W); };
+            figure::text(out, fit(name), left, y + pad / 2, ts, kInk);
+            figure::text(out, fit(setting), left, y + pad / 2 + lineH, ts, kGreyInk);
+            figure::text(out, fit("shadow " + fmt("%.2f", cell.labelShadowMs) + " ms"), left, y + pad / 2 + 2 * lineH, ts, kGreyInk);
+            if (cell.error.width)
+                figure::text(out, fit("RMSE " + fmt("%.4f", cell.m.all.rmse) + "  SSIM " + fmt("%.3f", cell.m.all.ssim)), left,
+                             y + pad / 2 + 3 * lineH, ts, kGreyInk);
             y += labelH;
             if (spec.errorMaps) {
                 if (cell.error.width) {
@@ -343,7 +347,8 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
         std::string maxText = fmt("%.3g", errorMax);
         figure::text(out, maxText, left + barW - figure::textWidth(maxText, ts), ty, ts, kInk);
         std::string caption = "|v - v_ref|: visibility error against " + spec.reference.describe() + " (grey: background)";
-        figure::text(out, caption, left + (barW - figure::textWidth(caption, ts)) / 2, ty + lineH, ts, kInk);
+        caption = figure::fitText(caption, ts, figureW - 2 * pad);
+        figure::text(out, caption, std::max(pad, (figureW - figure::textWidth(caption, ts)) / 2), ty + lineH, ts, kInk);
     }
     return out;
 }

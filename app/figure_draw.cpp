@@ -41,6 +41,12 @@ void outline(Image& image, int x0, int y0, int x1, int y1, int t, Rgb c) {
 }
 
 int textWidth(const std::string& s, int scale) { return stb_easy_font_width(const_cast<char*>(s.c_str())) * scale; }
+std::string fitText(std::string s, int scale, int maxWidth) {
+    if (textWidth(s, scale) <= maxWidth) return s;
+    while (s.size() > 2 && textWidth(s + "..", scale) > maxWidth) s.pop_back();
+    return s + "..";
+}
+
 int textHeight(int scale) { return 12 * scale; }
 
 int text(Image& image, const std::string& s, int left, int top, int scale, Rgb c) {

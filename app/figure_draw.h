@@ -18,6 +18,8 @@ void outline(Image& image, int x0, int y0, int x1, int y1, int thickness, Rgb co
 // Text with its top-left corner at (left, top); returns the width drawn.
 int text(Image& image, const std::string& s, int left, int top, int scale, Rgb colour);
 int textWidth(const std::string& s, int scale);
+// `s` shortened (ending in "..") until it is at most maxWidth pixels wide.
+std::string fitText(std::string s, int scale, int maxWidth);
 int textHeight(int scale);
 // Copies `src` (1 or 3 channels; 1 channel is shown grey) into `dst` at (left, top).
 void blit(Image& dst, const Image& src, int left, int top);
