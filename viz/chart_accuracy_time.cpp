@@ -98,6 +98,13 @@ public:
         text->SetItalic(false);
         text->SetOrientation(0.0);
         const float radius = 5.0f;
+        // Points first, then labels placed where they overlap no point and no earlier label: right
+        // and above the point, else right-below, left-above, left-below (the first that fits).
+        struct Box {
+            float x0, y0, x1, y1;
+            bool overlaps(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+        };
+        std::vector<Box> taken;
         for (const Series& s : series) {
             painter->GetPen()->SetColor(255, 255, 255, 255);
             painter->GetPen()->SetWidth(1.0f);
@@ -106,9 +113,32 @@ public:
                 float x, y;
                 if (!at(p, x, y)) continue;
                 painter->DrawEllipse(x, y, radius, radius);
-                if (labels && !p.label.empty()) painter->DrawString(x + radius + 2.0f, y + 2.0f, p.label);
+                taken.push_back({x - radius, y - radius, x + radius, y + radius});
             }
         }
+        if (labels)
+            for (const Series& s : series)
+                for (const AccuracyTimePoint& p : s.points) {
+                    float x, y;
+                    if (p.label.empty() || !at(p, x, y)) continue;
+                    float b[4];
+                    painter->ComputeStringBounds(p.label, b);
+                    const float w = b[2], h = b[3], gap = radius + 1.0f;
+                    const Box candidates[] = {{x + gap, y + 1.0f, x + gap + w, y + 1.0f + h},
+                                              {x + gap, y - 1.0f - h, x + gap + w, y - 1.0f},
+                                              {x - gap - w, y + 1.0f, x - gap, y + 1.0f + h},
+                                              {x - gap - w, y - 1.0f - h, x - gap, y - 1.0f}};
+                    Box chosen = candidates[0];
+                    for (const Box& c : candidates) {
+                        bool free = std::none_of(taken.begin(), taken.end(), [&](const Box& t) { return t.overlaps(c); });
+                        if (free) {
+                            chosen = c;
+                            break;
+                        }
+                    }
+                    taken.push_back(chosen);
+                    painter->DrawString(chosen.x0, chosen.y0, p.label);
+                }
         for (const Series& s : series)
             for (const AccuracyTimePoint& p : s.points) {
                 float x, y;
