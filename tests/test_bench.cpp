@@ -69,6 +69,7 @@ std::string smallBench(const std::string& dir, const std::string& cache, const s
 TEST(Bench, CsvHasEveryColumnAndThePlotIsWrittenAsPngSvgPdf) {
     const std::string dir = fs::path(testPath("bench", "x")).parent_path().string();
     const std::string cache = dir + "/cache";
+    fs::remove_all(cache);
     auto r = run(smallBench(dir, cache, "--plot " + dir + "/plot.png --plot " + dir + "/plot.svg --plot " + dir +
                                             "/plot.pdf --report " + dir + "/report.md --latex " + dir + "/table.tex"));
     ASSERT_EQ(r.code, 0) << r.output;
@@ -142,6 +143,8 @@ TEST(Bench, CsvHasEveryColumnAndThePlotIsWrittenAsPngSvgPdf) {
 
 TEST(Bench, TwiceGivesIdenticalErrorColumnsAndTheReferenceIsCached) {
     const std::string dir = fs::path(testPath("bench", "x")).parent_path().string();
+    // A fresh folder: the caches must start empty (a previous run of the test leaves them).
+    for (const char* sub : {"a", "b", "c", "d", "cache-a", "cache-b"}) fs::remove_all(dir + "/" + sub);
     fs::create_directories(dir + "/a");
     fs::create_directories(dir + "/b");
     // Separate caches: the reference is computed twice, so its determinism is tested too.
