@@ -121,8 +121,10 @@ public:
                 for (const AccuracyTimePoint& p : s.points) {
                     float x, y;
                     if (p.label.empty() || !at(p, x, y)) continue;
+                    // An error of 0 cannot sit on a log axis: such a point is drawn at the floor and says so.
+                    const std::string label = p.error <= 0.0 && logY ? p.label + " (error 0)" : p.label;
                     float b[4];
-                    painter->ComputeStringBounds(p.label, b);
+                    painter->ComputeStringBounds(label, b);
                     const float w = b[2], h = b[3], gap = radius + 1.0f;
                     const Box candidates[] = {{x + gap, y + 1.0f, x + gap + w, y + 1.0f + h},
                                               {x + gap, y - 1.0f - h, x + gap + w, y - 1.0f},
@@ -137,7 +139,7 @@ public:
                         }
                     }
                     taken.push_back(chosen);
-                    painter->DrawString(chosen.x0, chosen.y0, p.label);
+                    painter->DrawString(chosen.x0, chosen.y0, label);
                 }
         for (const Series& s : series)
             for (const AccuracyTimePoint& p : s.points) {
