@@ -76,6 +76,25 @@ public:
             return std::isfinite(x) && std::isfinite(y) && x >= x1[0] - 0.5f && x <= x2[0] + 0.5f && y >= y1[1] - 0.5f &&
                    y <= y2[1] + 0.5f;
         };
+        // The grid at the axes' ticks, inside the plot area only (VTK's own grid is off: its SVG
+        // export draws lines past the plot area).
+        {
+            const float x0 = xAxis->GetPoint1()[0], x1 = xAxis->GetPoint2()[0];
+            const float y0 = yAxis->GetPoint1()[1], y1 = yAxis->GetPoint2()[1];
+            painter->GetPen()->SetColor(232, 232, 232, 255);
+            painter->GetPen()->SetWidth(1.0f);
+            painter->GetPen()->SetLineType(vtkPen::SOLID_LINE);
+            if (vtkFloatArray* ticks = xAxis->GetTickScenePositions())
+                for (vtkIdType i = 0; i < ticks->GetNumberOfTuples(); ++i) {
+                    float x = ticks->GetValue(i);
+                    if (x > x0 + 0.5f && x < x1 - 0.5f) painter->DrawLine(x, y0, x, y1);
+                }
+            if (vtkFloatArray* ticks = yAxis->GetTickScenePositions())
+                for (vtkIdType i = 0; i < ticks->GetNumberOfTuples(); ++i) {
+                    float y = ticks->GetValue(i);
+                    if (y > y0 + 0.5f && y < y1 - 0.5f) painter->DrawLine(x0, y, x1, y);
+                }
+        }
         if (front.size() >= 2) {
             std::vector<float> xy;
             for (const AccuracyTimePoint& p : front) {
@@ -304,6 +323,7 @@ vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& pane
         a->SetNotation(vtkAxis::PRINTF_NOTATION);
         a->SetLabelFormat("%g");
         a->SetBehavior(vtkAxis::FIXED);
+        a->SetGridVisible(false);  // AccuracyTimeMarks draws the grid
     }
     xAxis->SetLogScale(logX);
     yAxis->SetLogScale(logY);
