@@ -62,6 +62,7 @@ struct Measurement {
     Setting setting;
     nlohmann::json parameters;  // light 0's parameters as rendered (every key, defaults filled in)
     std::string techniqueRan;   // light 0's technique as run (a point light runs `hard`)
+    nlohmann::json lights;      // every light as rendered: shape, pose, size, technique, parameters
     int width = 0, height = 0;
     int frames = 0, warmup = 0;
     std::string clock;

@@ -203,6 +203,14 @@ Measurement measureSetting(const Scene& scene, const std::string& sceneName, int
         m.passMs[name] += p["median_ms"].get<double>();
     }
     const auto lights = renderer.lights();
+    m.lights = nlohmann::json::array();
+    for (const LightState* l : lights) {
+        nlohmann::json lj = lightJson(l->light);
+        lj["name"] = l->light.name;
+        lj["technique"] = l->desc->id;
+        lj["parameters"] = l->params.toJson(*l->desc);
+        m.lights.push_back(lj);
+    }
     if (!lights.empty()) {
         m.lightSize = lights[0]->light.size;
         m.techniqueRan = lights[0]->desc->id;

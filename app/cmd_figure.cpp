@@ -405,7 +405,6 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
                                      cell.m.all.rmse, old[index]["rmse"].get<double>());
                 }
             }
-            const auto lights = json::array();
             json cj{{"row", r},
                     {"column", c},
                     {"scene", row.scene},
@@ -416,6 +415,7 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
                       {"up", {scene.camera.up.x, scene.camera.up.y, scene.camera.up.z}},
                       {"fov_deg", scene.camera.fovYDegrees}}},
                     {"light_size", cell.m.lightSize},
+                    {"lights", cell.m.lights},
                     {"technique", setting.technique},
                     {"technique_ran", cell.m.techniqueRan},
                     {"set", setting.describe()},

@@ -65,6 +65,8 @@ TEST(Figure, GridWithInsetsAndErrorMapsAndRemakeGivesTheSamePng) {
     EXPECT_EQ(side["cells"][4]["light_size"], 1.0);
     EXPECT_EQ(side["cells"][2]["parameters"]["pcf_kernel"], 5);
     EXPECT_TRUE(side["cells"][1].contains("camera"));
+    EXPECT_EQ(side["cells"][1]["lights"][0]["technique"], "hard");
+    EXPECT_EQ(side["cells"][4]["lights"][0]["size"], 1.0);
     EXPECT_GT(side["cells"][1]["shadow_ms"].get<double>(), 0.0);
     EXPECT_EQ(side["cells"][0]["render_size"], nlohmann::json::array({128, 128}));
     EXPECT_FALSE(side["gl_renderer"].get<std::string>().empty());
