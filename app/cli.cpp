@@ -463,7 +463,12 @@ void printUsage() {
         "                   [--gl egl|osmesa]\n"
         "  shadowlab reference --scene S [--samples N | --rays M] --out v.pfm [--size WxH] [--light-size S]\n"
         "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png] [--strict]\n"
-        "  shadowlab scene --scene S --dump-triangles out.obj [--time t]");
+        "  shadowlab scene --scene S --dump-triangles out.obj [--time t]\n"
+        "  shadowlab bench (--spec NAME|file.json | --scenes A,B --techniques T1,T2 [--sweep key=a:b:n|key=v1,v2]...)\n"
+        "                  [--light-sizes s1,s2] [--size WxH] [--frames N] [--warmup N] [--reference raytraced:M|reference:N]\n"
+        "                  [--cache DIR] [--csv out.csv] [--plot p.png|p.svg|p.pdf]... [--latex t.tex] [--report r.md]\n"
+        "                  [--error rmse|1-ssim] [--quiet]\n"
+        "  shadowlab figure --spec fig.json --out fig.png|fig.pdf | --remake fig.png.json [--out fig.png]");
 }
 
 }  // namespace
@@ -478,13 +483,15 @@ int runCommandLine(const std::vector<std::string>& args) {
         if (command == "reference") return commandReference(args);
         if (command == "compare") return commandCompare(args);
         if (command == "scene") return commandScene(args);
+        if (command == "bench") return commandBench(args);
+        if (command == "figure") return commandFigure(args);
         if (command == "window") return runWindow(std::vector<std::string>(args.begin() + 1, args.end()));
         if (command == "help" || command == "--help" || command == "-h") {
             printUsage();
             return 0;
         }
         throw InputError("unknown command '" + command +
-                         "' (expected one of: list, render, reference, compare, scene, window, help)");
+                         "' (expected one of: list, render, reference, compare, scene, bench, figure, window, help)");
     } catch (const InputError& e) {
         std::fprintf(stderr, "shadowlab: %s\n", e.what());
         return 2;

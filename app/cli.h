@@ -9,6 +9,9 @@ namespace shadowlab {
 int runCommandLine(const std::vector<std::string>& args);
 // The window (app/window.cpp): the rendered image, technique and scene switched with keys.
 int runWindow(const std::vector<std::string>& args);
+// `bench` (app/cmd_bench.cpp) and `figure` (app/cmd_figure.cpp).
+int commandBench(const std::vector<std::string>& args);
+int commandFigure(const std::vector<std::string>& args);
 
 // Option parsing shared by the commands: "--flag value" pairs and bare flags, checked against the
 // command's known options, so a typo is an error that names it.
