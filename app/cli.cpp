@@ -17,10 +17,13 @@
 #include "renderer.h"
 #include "scene.h"
 #include "technique.h"
+#include "views.h"
 
 namespace fs = std::filesystem;
 
 namespace shadowlab {
+
+int commandViz(const std::vector<std::string>& args);  // app/cmd_viz.cpp
 
 // ---- option parsing ----------------------------------------------------------------------------------
 Options::Options(const std::string& command, const std::vector<std::string>& args, size_t first,
@@ -159,6 +162,8 @@ int commandList(const std::vector<std::string>& args) {
     }
     j["lessons"] = nlohmann::json::array();
     j["views"] = nlohmann::json::array();
+    for (const ViewInfo& v : listViews())
+        j["views"].push_back({{"name", v.name}, {"doc", v.doc}, {"applies_to", v.appliesTo}, {"export", v.exportExtension}});
     if (opts.has("--json")) {
         std::cout << j.dump(2) << "\n";
         return 0;
@@ -179,6 +184,10 @@ int commandList(const std::vector<std::string>& args) {
         std::cout << "  " << s["name"].get<std::string>() << "  "
                   << (s.contains("description") ? s["description"].get<std::string>() : s.value("error", "")) << "\n";
     std::cout << "Lessons\n  (none yet)\n";
+    std::cout << "Views (shadowlab viz --view V)\n";
+    for (const auto& v : j["views"])
+        std::cout << "  " << v["name"].get<std::string>() << "  " << v["doc"].get<std::string>() << "\n    applies to "
+                  << v["applies_to"].get<std::string>() << "\n";
     return 0;
 }
 
@@ -468,7 +477,11 @@ void printUsage() {
         "                  [--light-sizes s1,s2] [--size WxH] [--frames N] [--warmup N] [--reference raytraced:M|reference:N]\n"
         "                  [--cache DIR] [--csv out.csv] [--plot p.png|p.svg|p.pdf]... [--latex t.tex] [--report r.md]\n"
         "                  [--error rmse|1-ssim] [--quiet]\n"
-        "  shadowlab figure --spec fig.json --out fig.png|fig.pdf | --remake fig.png.json [--out fig.png]");
+        "  shadowlab figure --spec fig.json --out fig.png|fig.pdf | --remake fig.png.json [--out fig.png]\n"
+        "  shadowlab viz --view V --scene S [--technique T] [--set k=v]... [--pixel x,y] [--internal NAME] [--light N]\n"
+        "                [--size WxH] [--view-size WxH] --out view.png [--export data.vtp|.vti]\n"
+        "                [--reference v.pfm | --reference-samples N]"
+        " [--rays M] [--azimuth deg] [--elevation deg] [--zoom z] [--json]");
 }
 
 }  // namespace
@@ -485,13 +498,14 @@ int runCommandLine(const std::vector<std::string>& args) {
         if (command == "scene") return commandScene(args);
         if (command == "bench") return commandBench(args);
         if (command == "figure") return commandFigure(args);
+        if (command == "viz") return commandViz(args);
         if (command == "window") return runWindow(std::vector<std::string>(args.begin() + 1, args.end()));
         if (command == "help" || command == "--help" || command == "-h") {
             printUsage();
             return 0;
         }
         throw InputError("unknown command '" + command +
-                         "' (expected one of: list, render, reference, compare, scene, bench, figure, window, help)");
+                         "' (expected one of: list, render, reference, compare, scene, bench, figure, viz, window, help)");
     } catch (const InputError& e) {
         std::fprintf(stderr, "shadowlab: %s\n", e.what());
         return 2;

@@ -552,7 +552,7 @@ std::set<std::string> Renderer::internalRequests(bool withPixelRecords) const {
     return out;
 }
 
-void Renderer::writeInternals(InternalWriter& out, std::optional<glm::ivec2> pixel) {
+void Renderer::writeInternals(InternalSink& out, std::optional<glm::ivec2> pixel) {
     nlohmann::json pixelData;
     for (auto& lp : lights_) {
         LightState& l = lp->state;

@@ -64,7 +64,7 @@ public:
 
     // Graph outputs the applicable internals of every light read (request them before writing).
     std::set<std::string> internalRequests(bool withPixelRecords) const;
-    void writeInternals(InternalWriter& out, std::optional<glm::ivec2> pixel);
+    void writeInternals(InternalSink& out, std::optional<glm::ivec2> pixel);
     // frameMs: the frames as run; costFrom: the first frame whose pass times count for cost_ms.
     nlohmann::json stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom = 1) const;
     // Passes needed by the last request with no run at a frame >= `frame` (their cost is unknown).
