@@ -481,7 +481,11 @@ void printUsage() {
         "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png] [--strict]\n"
         "  shadowlab scene --scene S --dump-triangles out.obj [--time t]\n"
         "  shadowlab lesson L --headless --out DIR [--size WxH] | --check   a lesson as PNGs + HTML handout\n"
-
+        "  shadowlab bench (--spec NAME|file.json | --scenes A,B --techniques T1,T2 [--sweep key=a:b:n|key=v1,v2]...)\n"
+        "                  [--light-sizes s1,s2] [--size WxH] [--frames N] [--warmup N] [--reference raytraced:M|reference:N]\n"
+        "                  [--cache DIR] [--csv out.csv] [--plot p.png|p.svg|p.pdf]... [--latex t.tex] [--report r.md]\n"
+        "                  [--error rmse|1-ssim] [--quiet]\n"
+        "  shadowlab figure --spec fig.json --out fig.png|fig.pdf | --remake fig.png.json [--out fig.png]\n"
         "  shadowlab viz --view V --scene S [--technique T] [--set k=v]... [--pixel x,y] [--internal NAME] [--light N]\n"
         "                [--size WxH] [--view-size WxH] --out view.png [--export data.vtp|.vti]\n"
         "                [--reference v.pfm | --reference-samples N]"
@@ -501,6 +505,8 @@ int runCommandLine(const std::vector<std::string>& args) {
         if (command == "compare") return commandCompare(args);
         if (command == "scene") return commandScene(args);
         if (command == "lesson") return commandLesson(args);
+        if (command == "bench") return commandBench(args);
+        if (command == "figure") return commandFigure(args);
         if (command == "viz") return commandViz(args);
         if (command == "window") return runWindow(std::vector<std::string>(args.begin() + 1, args.end()));
         if (command == "help" || command == "--help" || command == "-h") {
@@ -508,7 +514,7 @@ int runCommandLine(const std::vector<std::string>& args) {
             return 0;
         }
         throw InputError("unknown command '" + command +
-                         "' (expected one of: list, render, reference, compare, scene, viz, lesson, window, help)");
+                         "' (expected one of: list, render, reference, compare, scene, bench, figure, viz, lesson, window, help)");
     } catch (const InputError& e) {
         std::fprintf(stderr, "shadowlab: %s\n", e.what());
         return 2;

@@ -12,6 +12,9 @@ int runWindow(const std::vector<std::string>& args);
 // `shadowlab` with no arguments: the window, or with no display a headless render of the default
 // scene into a folder, printed (never exit code 1 for a missing display).
 int runDefault();
+// `bench` (app/cmd_bench.cpp) and `figure` (app/cmd_figure.cpp).
+int commandBench(const std::vector<std::string>& args);
+int commandFigure(const std::vector<std::string>& args);
 
 // Option parsing shared by the commands: "--flag value" pairs and bare flags, checked against the
 // command's known options, so a typo is an error that names it.

@@ -5,6 +5,8 @@ namespace shadowlab {
 
 const TechniqueDesc& hardTechnique();
 const TechniqueDesc& pcfTechnique();
+const TechniqueDesc& pcssTechnique();
+const TechniqueDesc& sssmTechnique();
 const TechniqueDesc& ssmGbp06Technique();
 const TechniqueDesc& ssmContourTechnique();
 const TechniqueDesc& referenceTechnique();
@@ -14,6 +16,8 @@ const std::vector<const TechniqueDesc*>& allTechniques() {
     static const std::vector<const TechniqueDesc*> all = {
         &hardTechnique(),
         &pcfTechnique(),
+        &pcssTechnique(),
+        &sssmTechnique(),
         &ssmGbp06Technique(),
         &ssmContourTechnique(),
         &referenceTechnique(),

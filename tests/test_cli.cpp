@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -141,11 +142,15 @@ TEST(Cli, ListJsonDescribesTechniquesAndScenes) {
         ids.insert(t["id"]);
         for (const auto& p : t["parameters"]) {
             EXPECT_FALSE(p["doc"].get<std::string>().empty());
+            if (p["type"] == "enum") {  // the default is a choice's name
+                EXPECT_NE(std::find(p["choices"].begin(), p["choices"].end(), p["default"]), p["choices"].end());
+                continue;
+            }
             EXPECT_GE(p["default"].get<double>(), p["min"].get<double>());
             EXPECT_LE(p["default"].get<double>(), p["max"].get<double>());
         }
     }
-    EXPECT_EQ(ids, (std::set<std::string>{"hard", "pcf", "reference", "raytraced", "ssm-gbp06", "ssm-contour"}));
+    EXPECT_EQ(ids, (std::set<std::string>{"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "reference", "raytraced"}));
     EXPECT_GE(j["scenes"].size(), 9u);
     for (const auto& s : j["scenes"]) EXPECT_FALSE(s.contains("error")) << s.dump();
     EXPECT_EQ(run("list").code, 0);

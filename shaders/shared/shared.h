@@ -12,6 +12,7 @@ using namespace glm;
 using uint = std::uint32_t;
 #define SHARED_FN inline
 #include "light_sampling.glsl"
+#include "penumbra.glsl"
 #include "shadow_projection.glsl"
 #include "square_occluder.glsl"
 #include "backprojection.glsl"

@@ -1,0 +1,36 @@
+// PCSS step 2, percentage-closer filtering with the kernel of step 1 (Fernando 2005; buades2015
+// sec. 2): the weighted fraction of depth tests that pass over a kernel as wide as the penumbra of
+// eq. 1. Regular pattern: every texel of the kernel, box weights with fractional edge taps
+// (kernelWeight, so the kernel widens continuously); Poisson: POISSON_COUNT taps in a disk.
+#include "../common/gbuffer_access.glsl"
+#include "pcss_common.glsl"
+uniform sampler2D blockers;  // (z_avg, count, search width, kernel) of blocker_search
+layout(location = 0) out float visibility;
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    // No blocker (and background): "considered as being totally illuminated" (buades2015 sec.
+    // 4.2): the pass's clear value 1 stays (discarded, see blocker_search.frag).
+    vec4 b = texelFetch(blockers, pixel, 0);
+    if (b.x < 0.0) discard;
+    ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));
+    TapPlane plane = tapPlane(receiver, worldPosition(pixel), worldNormal(pixel));
+    float kernel = b.w;
+    if (pattern == PATTERN_POISSON) {
+        float lit = 0.0;
+        for (int i = 0; i < POISSON_COUNT; ++i) lit += shadowTestTap(receiver, plane, poissonDisk[i] * (0.5 * kernel));
+        visibility = lit / float(POISSON_COUNT);
+        return;
+    }
+    int r = kernelRadius(kernel);
+    float lit = 0.0, weights = 0.0;
+    for (int dy = -r; dy <= r; ++dy) {
+        float wy = kernelWeight(float(dy), kernel, FILTER_MEAN, 1.0);
+        for (int dx = -r; dx <= r; ++dx) {
+            float w = wy * kernelWeight(float(dx), kernel, FILTER_MEAN, 1.0);
+            lit += w * shadowTestTap(receiver, plane, vec2(dx, dy));
+            weights += w;
+        }
+    }
+    visibility = clamp(lit / weights, 0.0, 1.0);  // float rounding of the weights can pass 1 by an ulp
+}

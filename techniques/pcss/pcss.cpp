@@ -1,0 +1,254 @@
+// `pcss`: percentage-closer soft shadows (Fernando 2005, recapped in buades2015 sec. 2, eq. 1). The
+// light-centre shadow map of `hard`; a blocker search over the region the light and the receiver
+// define; the penumbra width of eq. 1; PCF with a kernel of that width.
+#include "pcss.h"
+
+#include <cmath>
+
+#include "../hard/hard.h"
+#include "error.h"
+#include "shared/shared.h"
+
+namespace shadowlab {
+
+float lightWidthWorld(const Light& light) {
+    if (light.isPoint()) return 0.0f;
+    return light.shape == LightShape::Square ? light.size : 2.0f * light.size;
+}
+
+const std::array<glm::vec2, 32>& poissonDisk32() {
+    static const std::array<glm::vec2, 32> disk = [] {
+        std::array<glm::vec2, 32> points{};
+        size_t count = 0;
+        const float minDistance = 0.25f;
+        for (uint32_t i = 0; count < points.size(); ++i) {
+            uint32_t h = shared::pcgHash(i * 2654435761u + 17u);
+            glm::vec2 p(shared::hashToUnit(h) * 2.0f - 1.0f, shared::hashToUnit(shared::pcgHash(h)) * 2.0f - 1.0f);
+            if (glm::dot(p, p) > 1.0f) continue;
+            bool far = true;
+            for (size_t k = 0; k < count && far; ++k) far = glm::distance(points[k], p) >= minDistance;
+            if (far) points[count++] = p;
+            if (i > 1000000u) throw InternalError("poissonDisk32: dart throwing did not converge");
+        }
+        return points;
+    }();
+    return disk;
+}
+
+ResourceDesc markResource(const std::string& name, const std::string& doc) {
+    return ResourceDesc::texture(name, Format::DEPTH32F_STENCIL8, SizeRule::frame(), doc);
+}
+
+void drawStencilMarks(PassContext& ctx, int where, int channel, float above) {
+    std::vector<std::string> defines;
+    if (channel < 0)
+        defines.push_back("MARK_GEOMETRY");
+    else
+        defines.push_back("MARK_CHANNEL " + std::to_string(channel));
+    const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/mark.frag", defines);
+    program.use();
+    if (channel < 0) {
+        ctx.bindGBuffer(program);
+    } else {
+        program.set("marks", 4);
+        program.set("markAbove", above);
+    }
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glEnable(GL_STENCIL_TEST);
+    glStencilMask(0xFF);
+    if (where < 0) {
+        glStencilFunc(GL_ALWAYS, 1, 0xFF);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    } else {
+        glStencilFunc(GL_EQUAL, where, 0xFF);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+    }
+    drawFullscreenTriangle();
+    glDisable(GL_STENCIL_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+void beginStencilTest(int value) {
+    glEnable(GL_STENCIL_TEST);
+    glStencilFunc(GL_EQUAL, value, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    glStencilMask(0x00);
+}
+
+void endStencilTest() {
+    glDisable(GL_STENCIL_TEST);
+    glStencilMask(0xFF);
+}
+
+namespace {
+
+void setPcssUniforms(PassContext& ctx, const ShaderProgram& program, const Texture& map) {
+    setShadowLookupUniforms(program, ctx.lightView(), map.width(), ctx.light());
+    program.set("biasConstTexels", float(ctx.param("bias_const")));
+    program.set("biasSlopeTexels", float(ctx.param("bias_slope")));
+    program.set("lightWidthWorld", lightWidthWorld(ctx.light()));
+    program.set("lightNearZ", ctx.lightView().nearZ);
+    program.set("pattern", ctx.paramChoice("pattern") == "poisson" ? 1 : 0);
+    const auto& disk = poissonDisk32();
+    glProgramUniform2fv(program.id(), program.location("poissonDisk"), GLsizei(disk.size()), &disk[0].x);
+}
+
+// Step 1: blocker search, average blocker depth, penumbra width (eq. 1) and the PCF kernel.
+class BlockerSearchPass : public Pass {
+public:
+    void execute(PassContext& ctx) override {
+        Texture& out = ctx.texture("pcss_blockers");
+        Texture& mask = ctx.texture("pcss_mask");
+        if (fboTexture_ != out.id() || fboMask_ != mask.id()) {
+            fbo_ = Framebuffer({&out}, &mask);
+            fboTexture_ = out.id();
+            fboMask_ = mask.id();
+        }
+        fbo_.bind(ctx.width(), ctx.height());
+        glClearNamedFramebufferfi(fbo_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+        drawStencilMarks(ctx, -1);  // 1: geometry
+        const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/blocker_search.frag");
+        program.use();
+        const Texture& map = ctx.texture(shadowTestMap(ctx));
+        setPcssUniforms(ctx, program, map);
+        program.set("blockerKernel", float(ctx.paramInt("blocker_kernel")));
+        program.set("filterKernel", float(ctx.paramInt("filter_kernel")));
+        ctx.bindGBuffer(program);
+        glBindTextureUnit(3, map.id());
+        program.set("shadowMap", 3);
+        const float none[4] = {-1.0f, 0.0f, 0.0f, 0.0f};  // what skipped pixels keep: no blocker
+        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, none);
+        beginStencilTest(1);
+        drawFullscreenTriangle();
+        endStencilTest();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+private:
+    Framebuffer fbo_;
+    GLuint fboTexture_ = 0, fboMask_ = 0;
+};
+
+// Step 2: PCF over the kernel of step 1.
+class FilterPass : public Pass {
+public:
+    void execute(PassContext& ctx) override {
+        Texture& visibility = ctx.texture("visibility");
+        Texture& mask = ctx.texture("pcss_mask");
+        if (fboTexture_ != visibility.id() || fboMask_ != mask.id()) {
+            fbo_ = Framebuffer({&visibility}, &mask);
+            fboTexture_ = visibility.id();
+            fboMask_ = mask.id();
+        }
+        fbo_.bind(ctx.width(), ctx.height());
+        glBindTextureUnit(4, ctx.texture("pcss_blockers").id());
+        drawStencilMarks(ctx, 1, 0, -0.5f);  // 2: geometry with a blocker (z_avg >= 0)
+        const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/filter.frag");
+        program.use();
+        const Texture& map = ctx.texture(shadowTestMap(ctx));
+        setPcssUniforms(ctx, program, map);
+        ctx.bindGBuffer(program);
+        glBindTextureUnit(3, map.id());
+        program.set("shadowMap", 3);
+        glBindTextureUnit(4, ctx.texture("pcss_blockers").id());
+        program.set("blockers", 4);
+        const float lit[4] = {1.0f, 0.0f, 0.0f, 0.0f};  // what skipped pixels keep
+        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, lit);
+        beginStencilTest(2);
+        drawFullscreenTriangle();
+        endStencilTest();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+private:
+    Framebuffer fbo_;
+    GLuint fboTexture_ = 0, fboMask_ = 0;
+};
+
+}  // namespace
+
+// The kernel parameters of the shadow-map filtering family, with buades2015's settings.
+ParamDesc blockerKernelParam() {
+    ParamDesc n{"blocker_kernel", "n", ParamDesc::Type::Int, "texels", 29, 1, 127, 2,
+                "largest blocker-search width n; each pixel searches the region its light and depth define, up to n "
+                "(buades2015 uses 7, 11, 29; 29 with m = 41 is its Tables 2-6 setting). Clamped to 2 sm_size - 1",
+                ""};
+    n.constraint = ParamDesc::Constraint::Odd;
+    return n;
+}
+
+ParamDesc filterKernelParam(const std::string& unit) {
+    ParamDesc m{"filter_kernel", "m", ParamDesc::Type::Int, unit, 41, 1, 127, 2,
+                "largest filter width m; each pixel filters over its eq. 1 penumbra, up to m (buades2015 uses 15, 21, 41)",
+                ""};
+    m.constraint = ParamDesc::Constraint::Odd;
+    return m;
+}
+
+const TechniqueDesc& pcssTechnique() {
+    static const TechniqueDesc desc = [] {
+        TechniqueDesc d;
+        d.id = "pcss";
+        d.name = "Percentage-closer soft shadows";
+        d.citation = "Fernando 2005, Percentage-closer soft shadows; recap in buades2015 sec. 2, eq. 1 and sec. 4.1 (Fig. 2)";
+        d.summary = "blocker search in the shadow map, penumbra width from the average blocker depth (eq. 1, parallel "
+                    "light, occluder and receiver), then PCF with a kernel that wide";
+        d.soft = true;
+        d.params = shadowMapParams();
+        d.params.push_back(blockerKernelParam());
+        ParamDesc m = filterKernelParam("texels");
+        m.doc += ". Clamped to 2 sm_size - 1";
+        d.params.push_back(m);
+        ParamDesc pattern{"pattern", "", ParamDesc::Type::Enum, "", 0, 0, 1, 1,
+                          "sampling pattern of both searches: regular = every texel of the kernel (the paper's n x n and "
+                          "m x m, a square light), poisson = 32 taps of a Poisson disk scaled to the kernel (a disk light, "
+                          "fixed cost, noisy)",
+                          ""};
+        pattern.choices = {"regular", "poisson"};
+        d.params.push_back(pattern);
+
+        std::vector<std::string> common = {"gbuffer", "light", "param:bias_const", "param:bias_slope", "param:pattern"};
+        for (const std::string& r : shadowTestReads()) common.push_back(r);
+
+        PassDesc search;
+        search.name = "blocker_search";
+        search.doc = "blocker search over the light/receiver region (<= n x n texels), average blocker depth, eq. 1 "
+                     "penumbra and PCF kernel";
+        search.reads = common;
+        search.reads.push_back("param:blocker_kernel");
+        search.reads.push_back("param:filter_kernel");
+        search.creates = {
+            ResourceDesc::texture(
+                "pcss_blockers", Format::RGBA32F, SizeRule::frame(),
+                "per pixel: average blocker depth z_avg (-1: none), blocker count, search width and filter kernel (texels)"),
+            markResource("pcss_mask", "stencil marks: 1 geometry, 2 with a blocker (the pixels each draw shades)")};
+        search.soft = true;
+        search.create = [] { return std::make_unique<BlockerSearchPass>(); };
+
+        PassDesc filter;
+        filter.name = "filter";
+        filter.doc = "PCF over the penumbra kernel of the blocker search (<= m x m texels)";
+        filter.reads = common;
+        filter.reads.push_back("pcss_blockers");
+        filter.modifies = {"pcss_mask"};
+        filter.creates = {visibilityResource()};
+        filter.soft = true;
+        filter.create = [] { return std::make_unique<FilterPass>(); };
+        d.passes = {shadowMapPass(), search, filter};
+
+        d.internals = shadowMapInternals();
+        InternalDesc blockers;
+        blockers.name = "blockers";
+        blockers.kind = InternalDesc::Kind::Image;
+        blockers.resource = "pcss_blockers";
+        blockers.channels = {"avg_blocker_depth", "blocker_count", "search_width", "kernel_size"};
+        blockers.doc = "per pixel: average blocker depth z_avg (world, -1 = no blocker), blockers found, blocker-search "
+                       "width and PCF kernel width (texels)";
+        d.internals.push_back(blockers);
+        d.internals.push_back(shadowMapPixelRecord());
+        return d;
+    }();
+    return desc;
+}
+
+}  // namespace shadowlab

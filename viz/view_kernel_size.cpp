@@ -1,0 +1,106 @@
+// `kernel-size`: the filter kernel each pixel used, as a heat map with a colour bar, for every
+// technique that exposes one: an image internal with a channel named `kernel_size` or `kernel_*`
+// (pcss: `blockers.kernel_size`, texels of the shadow map; sssm: `kernel_size.kernel_x/kernel_y`,
+// screen pixels). Background pixels show grey. The caption gives the mean and largest kernel over
+// the pixels that filtered (kernel > 1).
+#include <vtkActor.h>
+#include <vtkImageData.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "error.h"
+#include "view_common.h"
+
+namespace shadowlab {
+
+namespace {
+
+bool isKernelChannel(const std::string& c) { return c == "kernel_size" || c.rfind("kernel_", 0) == 0; }
+
+// The first image internal of the light's technique with kernel channels, and those channels.
+const InternalDesc* kernelInternal(const LightState& l, std::vector<int>* channels) {
+    for (const InternalDesc& i : l.desc->internals) {
+        if (i.kind != InternalDesc::Kind::Image) continue;
+        std::vector<int> found;
+        for (size_t c = 0; c < i.channels.size(); ++c)
+            if (isKernelChannel(i.channels[c])) found.push_back(int(c));
+        if (found.empty()) continue;
+        if (channels) *channels = found;
+        return &i;
+    }
+    return nullptr;
+}
+
+std::string refusal(const Renderer& renderer, const ViewRequest& request) {
+    const LightState& l = *renderer.lights().at(size_t(request.light));
+    if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
+    if (!kernelInternal(l, nullptr))
+        return "technique " + l.desc->id + " exposes no kernel size (an image internal with a 'kernel_size' or 'kernel_*' channel)";
+    return "";
+}
+
+void build(ViewContext& ctx, ViewResult& result) {
+    const LightState& l = ctx.light();
+    std::vector<int> channels;
+    const InternalDesc& desc = *kernelInternal(l, &channels);
+    const CollectedInternal* collected = ctx.internal(desc.name);
+    if (!collected || collected->levels.empty())
+        throw InputError("view kernel-size: technique " + l.desc->id + " wrote no '" + desc.name + "' this frame");
+    const Image ids = ctx.renderer.ids();
+    Image kernels(collected->levels[0].width, collected->levels[0].height, int(channels.size()));
+    std::vector<std::string> names;
+    nlohmann::json stats = nlohmann::json::array();
+    std::string summary;
+    for (size_t k = 0; k < channels.size(); ++k) {
+        names.push_back(desc.channels[size_t(channels[k])]);
+        double sum = 0.0;
+        float largest = 0.0f;
+        size_t filtered = 0;
+        for (int y = 0; y < kernels.height; ++y)
+            for (int x = 0; x < kernels.width; ++x) {
+                bool background = ids.width == kernels.width && ids.height == kernels.height && ids.at(x, y) < 0.0f;
+                float v = background ? NAN : collected->levels[0].at(x, y, channels[k]);
+                kernels.at(x, y, int(k)) = v;
+                if (std::isfinite(v) && v > 1.0f) {
+                    sum += v;
+                    largest = std::max(largest, v);
+                    ++filtered;
+                }
+            }
+        double mean = filtered ? sum / double(filtered) : 0.0;
+        stats.push_back({{"channel", names.back()}, {"filtered_pixels", filtered}, {"mean", mean}, {"max", largest}});
+        summary += (summary.empty() ? "" : "; ") + names.back() + ": mean " + formatNumber(mean) + ", max " +
+                   formatNumber(largest) + " over " + std::to_string(filtered) + " pixels";
+    }
+    result.caption = "kernel-size  " + l.desc->id + ", L" + std::to_string(ctx.request.light) + ", " + desc.name +
+                     " (kernel > 1): " + summary;
+    result.data = {{"internal", desc.name}, {"channels", stats}};
+    const double strip = addCaptionStrip(ctx.out, result.caption);
+    auto image = toImageData(kernels, names);
+    for (size_t k = 0; k < names.size(); ++k) {
+        auto [lo, hi] = finiteRange(kernels, int(k));
+        double x0 = double(k) / double(names.size()), x1 = double(k + 1) / double(names.size());
+        addImagePanelWithBar(ctx.out, image, names[k], sequentialLut(std::min(lo, 1.0f), std::max(hi, 1.0f)),
+                             desc.name + "." + names[k], names[k], x0, strip, x1, 1.0);
+    }
+    if (!ctx.request.exportPath.empty()) writeImageData(image, ctx.exportTarget(ctx.request.exportPath));
+}
+
+}  // namespace
+
+const ViewDesc& kernelSizeView() {
+    static const ViewDesc desc = [] {
+        ViewDesc d;
+        d.info.name = "kernel-size";
+        d.info.doc = "the filter kernel (penumbra size) each pixel used, as a heat map with a colour bar; background grey";
+        d.info.appliesTo = "techniques with a kernel-size internal channel (pcss, sssm)";
+        d.info.exportExtension = ".vti";
+        d.refusal = refusal;
+        d.build = build;
+        return d;
+    }();
+    return desc;
+}
+
+}  // namespace shadowlab
