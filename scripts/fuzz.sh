@@ -37,7 +37,7 @@ for t in "${targets[@]}"; do
   echo "== fuzz_$t for ${seconds}s (corpus $corpus)"
   if ! (cd "$build" && ASAN_OPTIONS=detect_leaks=1 "./tests/fuzz/fuzz_$t" "$corpus" "$seeds" "${dict[@]}" \
         -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-        -artifact_prefix="$build/artifacts/$t-" 2>&1 | tee "$build/fuzz_$t.log" | grep -E "^#[0-9]+ +(DONE|pulse)|ERROR|SUMMARY|stat::number_of_executed_units|stat::peak_rss" ); then
+        -artifact_prefix="$build/artifacts/$t-" 2>&1 | tee "$build/fuzz_$t.log" | grep -E "DONE|ERROR|SUMMARY|stat::number_of_executed_units|stat::peak_rss" ); then
     :
   fi
   if grep -qE "ERROR: (libFuzzer|AddressSanitizer|UndefinedBehaviorSanitizer)|runtime error|deadly signal" "$build/fuzz_$t.log"; then
