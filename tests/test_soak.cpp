@@ -37,22 +37,39 @@ long residentKB() {
     return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
-// Live GL objects of each kind, by asking the driver about every name up to a bound (Mesa hands
-// out small consecutive names).
+// Live GL objects of each kind, by asking the driver about every name it has handed out: Mesa
+// gives each new object the largest name so far plus one, so a fresh probe object's name bounds
+// them (a fixed bound is not enough: a 500-frame round with resizes creates 100,000 textures).
 struct LiveObjects {
     int textures = 0, buffers = 0, framebuffers = 0, vertexArrays = 0, programs = 0, queries = 0;
     bool operator==(const LiveObjects&) const = default;
 };
 LiveObjects liveObjects() {
+    GLuint texture = 0, buffer = 0, framebuffer = 0, vertexArray = 0, query = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+    glCreateBuffers(1, &buffer);
+    glCreateFramebuffers(1, &framebuffer);
+    glCreateVertexArrays(1, &vertexArray);
+    glCreateQueries(GL_TIME_ELAPSED, 1, &query);
+    const GLuint program = glCreateProgram();  // programs and shaders share one name space
     LiveObjects live;
-    for (GLuint name = 1; name < 20000; ++name) {
-        live.textures += glIsTexture(name) == GL_TRUE;
-        live.buffers += glIsBuffer(name) == GL_TRUE;
-        live.framebuffers += glIsFramebuffer(name) == GL_TRUE;
-        live.vertexArrays += glIsVertexArray(name) == GL_TRUE;
-        live.programs += glIsProgram(name) == GL_TRUE;
-        live.queries += glIsQuery(name) == GL_TRUE;
-    }
+    const auto count = [](GLuint bound, auto isA) {
+        int n = 0;
+        for (GLuint name = 1; name < bound; ++name) n += isA(name) == GL_TRUE;
+        return n;
+    };
+    live.textures = count(texture, glIsTexture);
+    live.buffers = count(buffer, glIsBuffer);
+    live.framebuffers = count(framebuffer, glIsFramebuffer);
+    live.vertexArrays = count(vertexArray, glIsVertexArray);
+    live.programs = count(program, glIsProgram);
+    live.queries = count(query, glIsQuery);
+    glDeleteTextures(1, &texture);
+    glDeleteBuffers(1, &buffer);
+    glDeleteFramebuffers(1, &framebuffer);
+    glDeleteVertexArrays(1, &vertexArray);
+    glDeleteQueries(1, &query);
+    glDeleteProgram(program);
     return live;
 }
 std::string describe(const LiveObjects& l) {
