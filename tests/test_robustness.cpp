@@ -230,7 +230,10 @@ TEST(GltfFeatures, SkinnedAndMorphedModelsWarn) {
     EXPECT_CONTAINS(warnings[0], "morph");
     // Through a scene and the command line: a warning on stderr, exit 0.
     const std::string scene = writeFile("skinned.json", sceneWith(R"({"type": "gltf", "file": "skinned.gltf"})"));
-    EXPECT_EQ(loadScene(scene).warnings.size(), 1u);
+    const Scene loaded = loadScene(scene);
+    ASSERT_EQ(loaded.warnings.size(), 1u);
+    EXPECT_CONTAINS(loaded.warnings[0], scene + ":4: objects[0].file: ");  // the scene field, then the glTF
+    EXPECT_CONTAINS(loaded.warnings[0], "skinned.gltf: nodes[0] has a skin");
     const test::Result r = run("scene --scene " + scene + " --dump-triangles " + tmp("s.obj"));
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_CONTAINS(r.output, "warning: ");

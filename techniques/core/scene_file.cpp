@@ -327,7 +327,10 @@ PendingObject readObject(const JsonReader& r, const json& v, const std::string& 
         }
         pending.build = [gltf, place, limits, &warnings] {
             try {
-                return loadGltfMesh(gltf, limits, &warnings);
+                std::vector<std::string> gltfWarnings;
+                Mesh mesh = loadGltfMesh(gltf, limits, &gltfWarnings);
+                for (const std::string& w : gltfWarnings) warnings.push_back(place + ": " + w);
+                return mesh;
             } catch (const InputError& e) {
                 throw InputError(place + ": " + e.what());
             }

@@ -486,13 +486,13 @@ public:
         });
         if (warnings && skinned > 0) {
             warnings->push_back(path_ + ": nodes[" + std::to_string(firstSkinned) + "]" +
-                                (skinned > 1 ? " and " + std::to_string(skinned - 1) + " other node(s)" : "") +
-                                " have a skin; skinning is not supported, so the mesh is drawn in its rest pose");
+                                (skinned > 1 ? " and " + std::to_string(skinned - 1) + " other node(s) have" : " has") +
+                                " a skin; skinning is not supported, so the mesh is drawn in its rest pose");
         }
         if (warnings && morphed > 0) {
             warnings->push_back(path_ + ": meshes[" + std::to_string(firstMorphed) + "]" +
-                                (morphed > 1 ? " and " + std::to_string(morphed - 1) + " other instance(s)" : "") +
-                                " have morph targets; morphing is not supported, so the mesh is drawn in its rest pose");
+                                (morphed > 1 ? " and " + std::to_string(morphed - 1) + " other instance(s) have" : " has") +
+                                " morph targets; morphing is not supported, so the mesh is drawn in its rest pose");
         }
         if (out.triangleCount() == 0) fail("contains no triangles");
         for (const glm::vec3& p : out.positions) {
