@@ -12,16 +12,20 @@
 #include "error.h"
 #include "gl_context.h"
 #include "image.h"
+#include "lesson_cli.h"
 #include "metrics.h"
 #include "provenance.h"
 #include "renderer.h"
 #include "resource_limits.h"
 #include "scene.h"
 #include "technique.h"
+#include "views.h"
 
 namespace fs = std::filesystem;
 
 namespace shadowlab {
+
+int commandViz(const std::vector<std::string>& args);  // app/cmd_viz.cpp
 
 // ---- option parsing ----------------------------------------------------------------------------------
 Options::Options(const std::string& command, const std::vector<std::string>& args, size_t first,
@@ -165,8 +169,10 @@ int commandList(const std::vector<std::string>& args) {
         }
         j["scenes"].push_back(s);
     }
-    j["lessons"] = nlohmann::json::array();
+    j["lessons"] = describeLessons();
     j["views"] = nlohmann::json::array();
+    for (const ViewInfo& v : listViews())
+        j["views"].push_back({{"name", v.name}, {"doc", v.doc}, {"applies_to", v.appliesTo}, {"export", v.exportExtension}});
     if (opts.has("--json")) {
         std::cout << j.dump(2) << "\n";
         return 0;
@@ -186,7 +192,16 @@ int commandList(const std::vector<std::string>& args) {
     for (const auto& s : j["scenes"])
         std::cout << "  " << s["name"].get<std::string>() << "  "
                   << (s.contains("description") ? s["description"].get<std::string>() : s.value("error", "")) << "\n";
-    std::cout << "Lessons\n  (none yet)\n";
+    std::cout << "Lessons\n";
+    for (const auto& l : j["lessons"])
+        std::cout << "  " << l["name"].get<std::string>() << "  "
+                  << (l.contains("title") ? l["title"].get<std::string>() + " (" + std::to_string(l["steps"].get<int>()) + " steps)"
+                                          : l["error"].get<std::string>())
+                  << "\n";
+    std::cout << "Views (shadowlab viz --view V)\n";
+    for (const auto& v : j["views"])
+        std::cout << "  " << v["name"].get<std::string>() << "  " << v["doc"].get<std::string>() << "\n    applies to "
+                  << v["applies_to"].get<std::string>() << "\n";
     return 0;
 }
 
@@ -470,8 +485,9 @@ int commandScene(const std::vector<std::string>& args) {
 void printUsage() {
     std::puts(
         "shadowlab: real-time soft shadows, taught\n"
-        "  shadowlab                         the window (needs a display)\n"
-        "  shadowlab window [--scene S] [--technique T] [--size WxH] [--screenshot f.png --frames N]\n"
+        "  shadowlab                         the window; with no display: renders the default scene into ./shadowlab-output\n"
+        "  shadowlab window [--scene S|file.gltf] [--technique T] [--size WxH] [--ui-scale F] [--no-reduce]\n"
+        "                   [--screenshot f.png --frames N] [--script steps.txt] [--report frames.json]   (F1: keys)\n"
         "  shadowlab list [--json]           techniques with parameters, scenes, lessons\n"
         "  shadowlab render --scene S [--technique T] [--set k=v]... [--size WxH] [--out img.png]\n"
         "                   [--visibility v.pfm] [--positions p.pfm] [--ids i.pfm] [--stats s.json]\n"
@@ -479,7 +495,13 @@ void printUsage() {
         "                   [--gl egl|osmesa] [--max-triangles N] [--max-memory-mb M]\n"
         "  shadowlab reference --scene S [--samples N | --rays M] --out v.pfm [--size WxH] [--light-size S]\n"
         "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png] [--strict]\n"
-        "  shadowlab scene --scene S --dump-triangles out.obj [--time t] [--max-triangles N]");
+        "  shadowlab scene --scene S --dump-triangles out.obj [--time t] [--max-triangles N]\n"
+        "  shadowlab lesson L --headless --out DIR [--size WxH] | --check   a lesson as PNGs + HTML handout\n"
+
+        "  shadowlab viz --view V --scene S [--technique T] [--set k=v]... [--pixel x,y] [--internal NAME] [--light N]\n"
+        "                [--size WxH] [--view-size WxH] --out view.png [--export data.vtp|.vti]\n"
+        "                [--reference v.pfm | --reference-samples N]"
+        " [--rays M] [--azimuth deg] [--elevation deg] [--zoom z] [--json]");
 }
 
 }  // namespace
@@ -488,20 +510,22 @@ int runCommandLine(const std::vector<std::string>& args) {
     try {
         rememberCommandLine(args);
         removeStagedOutputsOnSignals();  // SIGINT/SIGTERM delete staged temporaries
-        if (args.empty()) return runWindow(args);
+        if (args.empty()) return runDefault();
         const std::string& command = args[0];
         if (command == "list") return commandList(args);
         if (command == "render") return commandRender(args);
         if (command == "reference") return commandReference(args);
         if (command == "compare") return commandCompare(args);
         if (command == "scene") return commandScene(args);
+        if (command == "lesson") return commandLesson(args);
+        if (command == "viz") return commandViz(args);
         if (command == "window") return runWindow(std::vector<std::string>(args.begin() + 1, args.end()));
         if (command == "help" || command == "--help" || command == "-h") {
             printUsage();
             return 0;
         }
         throw InputError("unknown command '" + command +
-                         "' (expected one of: list, render, reference, compare, scene, window, help)");
+                         "' (expected one of: list, render, reference, compare, scene, viz, lesson, window, help)");
     } catch (const InputError& e) {
         std::fprintf(stderr, "shadowlab: %s\n", e.what());
         return 2;

@@ -9,6 +9,9 @@ namespace shadowlab {
 int runCommandLine(const std::vector<std::string>& args);
 // The window (app/window.cpp): the rendered image, technique and scene switched with keys.
 int runWindow(const std::vector<std::string>& args);
+// `shadowlab` with no arguments: the window, or with no display a headless render of the default
+// scene into a folder, printed (never exit code 1 for a missing display).
+int runDefault();
 
 // Option parsing shared by the commands: "--flag value" pairs and bare flags, checked against the
 // command's known options, so a typo is an error that names it.

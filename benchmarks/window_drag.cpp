@@ -1,0 +1,112 @@
+// Benchmark (not a test): the window's frame time while the user drags the light, under a virtual
+// X server, on `plant` with `pcf`, with the reduced resolution while dragging (the default) and
+// without (--no-reduce). It runs `xvfb-run shadowlab window --script` with a drag that starts on the
+// light's centre (drag-light: the mouse code path a user's drag takes), reads the per-frame report
+// (--report) and prints, for the frames of the drag: median and 90th percentile of the whole frame
+// (script step, render, present, UI, swap, glFinish), of the technique's render alone, the render
+// size, and the first full-resolution frame after the drag (the refinement).
+// Usage: LP_NUM_THREADS=2 shadowlab_bench_window_drag [scene] [technique] [WxH] [drag frames] [runs]
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, size_t(p * double(v.size() - 1) + 0.5))];
+}
+
+struct Result {
+    std::vector<double> frameMs, renderMs;
+    int width = 0, height = 0;
+    double refineMs = -1.0;  // none: the drag was never reduced
+    double lightMoved = 0.0;
+};
+
+bool runOnce(const std::string& scene, const std::string& technique, const std::string& size, int frames,
+             bool reduce, const fs::path& dir, Result& out) {
+    fs::path script = dir / "drag.txt", report = dir / "report.json";
+    std::ofstream(script) << "panel off\nbackground off\nwait 10\n"  // warm up: shaders, first frames
+                          << "drag-light 160 60 " << frames << "\nwait 20\n";  // then the refinement
+    std::string command = "xvfb-run -a -s '-screen 0 1920x1080x24' " + std::string(SHADOWLAB_BINARY) +
+                          " window --scene " + scene + " --technique " + technique + " --size " + size +
+                          " --script " + script.string() + " --report " + report.string() +
+                          (reduce ? "" : " --no-reduce") + " > " + (dir / "log.txt").string() + " 2>&1";
+    if (std::system(command.c_str()) != 0) {
+        std::fprintf(stderr, "window_drag: the window failed, see %s\n", (dir / "log.txt").c_str());
+        return false;
+    }
+    nlohmann::json frames_ = nlohmann::json::parse(std::ifstream(report))["frames"];
+    // The drag's frames: those whose light moved; the refinement: the first full-resolution frame
+    // after the last of them.
+    size_t lastMoved = 0;
+    for (size_t i = 1; i < frames_.size(); ++i) {
+        const auto& f = frames_[i];
+        if (f["light"] == frames_[i - 1]["light"]) continue;
+        out.frameMs.push_back(f["frame_ms"]);
+        out.renderMs.push_back(f["render_ms"]);
+        out.width = f["render_size"][0];
+        out.height = f["render_size"][1];
+        lastMoved = i;
+    }
+    bool reduced = lastMoved > 0 && frames_[lastMoved]["reduced"].get<bool>();
+    for (size_t i = lastMoved + 1; reduced && i < frames_.size(); ++i)
+        if (!frames_[i]["reduced"].get<bool>()) {
+            out.refineMs = frames_[i]["render_ms"];
+            break;
+        }
+    auto a = frames_.front()["light"], b = frames_.back()["light"];
+    for (int k = 0; k < 3; ++k) out.lightMoved += std::abs(b[k].get<double>() - a[k].get<double>());
+    return !out.frameMs.empty();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string scene = argc > 1 ? argv[1] : "plant";
+    std::string technique = argc > 2 ? argv[2] : "pcf";
+    std::string size = argc > 3 ? argv[3] : "1024x768";
+    int frames = argc > 4 ? std::atoi(argv[4]) : 60;
+    int runs = argc > 5 ? std::atoi(argv[5]) : 2;
+    fs::path dir = fs::temp_directory_path() / ("shadowlab-window-drag-" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    std::printf("window drag: %s, %s, window %s, %d drag frames, %d run(s) per mode, LP_NUM_THREADS=%s\n",
+                scene.c_str(), technique.c_str(), size.c_str(), frames, runs,
+                std::getenv("LP_NUM_THREADS") ? std::getenv("LP_NUM_THREADS") : "(unset)");
+    std::printf("%-22s %10s %10s %11s %11s %10s %12s\n", "mode", "frame p50", "frame p90", "render p50",
+                "render p90", "size", "refine (ms)");
+    int status = 0;
+    for (int run = 0; run < runs; ++run) {
+        for (bool reduce : {true, false}) {
+            Result r;
+            if (!runOnce(scene, technique, size, frames, reduce, dir, r)) {
+                status = 1;
+                continue;
+            }
+            if (r.lightMoved <= 0.0) {
+                std::fprintf(stderr, "window_drag: the light did not move\n");
+                status = 1;
+            }
+            char dims[32];
+            std::snprintf(dims, sizeof dims, "%dx%d", r.width, r.height);
+            char refine[32] = "-";
+            if (r.refineMs >= 0) std::snprintf(refine, sizeof refine, "%.1f", r.refineMs);
+            std::printf("%-22s %10.1f %10.1f %11.1f %11.1f %10s %12s\n",
+                        reduce ? "reduced while dragging" : "full resolution", percentile(r.frameMs, 0.5),
+                        percentile(r.frameMs, 0.9), percentile(r.renderMs, 0.5), percentile(r.renderMs, 0.9), dims,
+                        refine);
+        }
+    }
+    fs::remove_all(dir);
+    return status;
+}
