@@ -16,6 +16,7 @@
 #include "metrics.h"
 #include "provenance.h"
 #include "renderer.h"
+#include "resource_limits.h"
 #include "scene.h"
 #include "technique.h"
 #include "views.h"
@@ -59,11 +60,18 @@ bool Options::has(const std::string& flag) const {
     return false;
 }
 
+// A flag read as one value may be given once: a repeated flag is an error, not "the last wins"
+// (flags meant to repeat, like --set, are read with all()).
 std::string Options::get(const std::string& flag, const std::string& fallback) const {
-    std::string result = fallback;
-    for (const auto& [f, v] : values_)
-        if (f == flag) result = v;
-    return result;
+    const std::string* result = nullptr;
+    for (const auto& [f, v] : values_) {
+        if (f != flag) continue;
+        if (result)
+            throw InputError(command_ + ": " + flag + " given more than once ('" + *result + "' and '" + v +
+                             "'); give it once");
+        result = &v;
+    }
+    return result ? *result : fallback;
 }
 
 std::vector<std::string> Options::all(const std::string& flag) const {
@@ -210,7 +218,11 @@ struct RenderJob {
 
 int runRender(const RenderJob& job, const Options& opts) {
     // Everything the user gave is checked before any pixel is rendered.
-    Scene scene = loadScene(job.scene);
+    Scene scene = loadScene(job.scene, sceneLimitsFrom(opts));
+    printSceneWarnings(scene);
+    checkDistinctOutputs({{"--out", job.out}, {"--visibility", job.visibility}, {"--positions", job.positions},
+                          {"--ids", job.ids}, {"--stats", job.stats}});
+    checkRenderMemory(scene, job.options, opts);
     for (const auto& [flag, path] : {std::pair<std::string, std::string>{"--out", job.out},
                                      {"--visibility", job.visibility},
                                      {"--positions", job.positions},
@@ -335,7 +347,8 @@ std::vector<std::pair<std::string, std::string>> parseSets(const std::vector<std
 int commandRender(const std::vector<std::string>& args) {
     Options opts("render", args, 1,
                  {"--scene", "--technique", "--set", "--size", "--out", "--visibility", "--positions", "--ids",
-                  "--stats", "--frames", "--internals", "--pixel", "--light-size", "--gl"},
+                  "--stats", "--frames", "--internals", "--pixel", "--light-size", "--gl", "--max-triangles",
+                  "--max-memory-mb"},
                  {"--no-reuse", "--check-reuse"});
     if (!opts.positional().empty()) throw InputError("render: unexpected argument '" + opts.positional()[0] + "'");
     if (!opts.has("--scene")) throw InputError("render: --scene is required (a scene name or a .json path)");
@@ -363,7 +376,9 @@ int commandRender(const std::vector<std::string>& args) {
 
 int commandReference(const std::vector<std::string>& args) {
     Options opts("reference", args, 1,
-                 {"--scene", "--samples", "--rays", "--out", "--size", "--light-size", "--set", "--gl", "--stats"}, {});
+                 {"--scene", "--samples", "--rays", "--out", "--size", "--light-size", "--set", "--gl", "--stats",
+                  "--max-triangles", "--max-memory-mb"},
+                 {});
     if (!opts.positional().empty()) throw InputError("reference: unexpected argument '" + opts.positional()[0] + "'");
     if (!opts.has("--scene")) throw InputError("reference: --scene is required");
     if (!opts.has("--out")) throw InputError("reference: --out v.pfm is required");
@@ -451,7 +466,7 @@ int commandCompare(const std::vector<std::string>& args) {
 
 // ---- scene --------------------------------------------------------------------------------------------
 int commandScene(const std::vector<std::string>& args) {
-    Options opts("scene", args, 1, {"--scene", "--dump-triangles", "--time"}, {});
+    Options opts("scene", args, 1, {"--scene", "--dump-triangles", "--time", "--max-triangles"}, {});
     if (!opts.positional().empty()) throw InputError("scene: unexpected argument '" + opts.positional()[0] + "'");
     if (!opts.has("--scene")) throw InputError("scene: --scene is required");
     if (!opts.has("--dump-triangles")) throw InputError("scene: --dump-triangles out.obj is required");
@@ -459,7 +474,8 @@ int commandScene(const std::vector<std::string>& args) {
     checkOutputPath("--dump-triangles", out);
     checkExtension("--dump-triangles", out, ".obj");
     float t = opts.getFloat("--time", 0.0f, 0.0f, 1e6f);
-    Scene scene = loadScene(opts.get("--scene"));
+    Scene scene = loadScene(opts.get("--scene"), sceneLimitsFrom(opts));
+    printSceneWarnings(scene);
     OutputSet outputs;
     writeTrianglesOBJ(scene, t, outputs.stage(out));
     outputs.commit();
@@ -476,10 +492,10 @@ void printUsage() {
         "  shadowlab render --scene S [--technique T] [--set k=v]... [--size WxH] [--out img.png]\n"
         "                   [--visibility v.pfm] [--positions p.pfm] [--ids i.pfm] [--stats s.json]\n"
         "                   [--frames N] [--no-reuse] [--check-reuse] [--internals DIR] [--pixel x,y] [--light-size S]\n"
-        "                   [--gl egl|osmesa]\n"
+        "                   [--gl egl|osmesa] [--max-triangles N] [--max-memory-mb M]\n"
         "  shadowlab reference --scene S [--samples N | --rays M] --out v.pfm [--size WxH] [--light-size S]\n"
         "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png] [--strict]\n"
-        "  shadowlab scene --scene S --dump-triangles out.obj [--time t]\n"
+        "  shadowlab scene --scene S --dump-triangles out.obj [--time t] [--max-triangles N]\n"
         "  shadowlab lesson L --headless --out DIR [--size WxH] | --check   a lesson as PNGs + HTML handout\n"
         "  shadowlab bench (--spec NAME|file.json | --scenes A,B --techniques T1,T2 [--sweep key=a:b:n|key=v1,v2]...)\n"
         "                  [--light-sizes s1,s2] [--size WxH] [--frames N] [--warmup N] [--reference raytraced:M|reference:N]\n"
@@ -497,6 +513,7 @@ void printUsage() {
 int runCommandLine(const std::vector<std::string>& args) {
     try {
         rememberCommandLine(args);
+        removeStagedOutputsOnSignals();  // SIGINT/SIGTERM delete staged temporaries
         if (args.empty()) return runDefault();
         const std::string& command = args[0];
         if (command == "list") return commandList(args);

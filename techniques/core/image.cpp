@@ -11,6 +11,10 @@
 // Image keeps row 0 at the top.
 #include "image.h"
 
+#include <atomic>
+#include <csignal>
+#include <cstring>
+
 #include <unistd.h>
 
 #include <bit>
@@ -221,11 +225,67 @@ void writePNG(const std::string& path, const Image& image) {
     }
 }
 
+namespace {
+
+// The staged temporaries, where a signal handler can read them without allocating or locking:
+// fixed slots, each free (0), being changed (1) or holding a path (2).
+constexpr int kStagedSlots = 64;
+constexpr size_t kStagedPathMax = 4096;
+char gStagedPaths[kStagedSlots][kStagedPathMax];
+std::atomic<int> gStagedState[kStagedSlots];
+
+void registerStaged(const std::string& path) {
+    if (path.size() + 1 > kStagedPathMax) return;
+    for (int i = 0; i < kStagedSlots; ++i) {
+        int expected = 0;
+        if (gStagedState[i].compare_exchange_strong(expected, 1)) {
+            std::memcpy(gStagedPaths[i], path.c_str(), path.size() + 1);
+            gStagedState[i].store(2);
+            return;
+        }
+    }
+}
+
+void unregisterStaged(const std::string& path) {
+    for (int i = 0; i < kStagedSlots; ++i) {
+        int expected = 2;
+        if (std::strcmp(gStagedPaths[i], path.c_str()) == 0 && gStagedState[i].compare_exchange_strong(expected, 1)) {
+            gStagedPaths[i][0] = '\0';
+            gStagedState[i].store(0);
+            return;
+        }
+    }
+}
+
+extern "C" void removeStagedAndDie(int signal) {
+    for (int i = 0; i < kStagedSlots; ++i) {
+        if (gStagedState[i].load() == 2) ::unlink(gStagedPaths[i]);
+    }
+    // SA_RESETHAND restored the default action: the signal, re-raised, kills the process once this
+    // handler returns (it is blocked until then), so the exit status says which signal it was.
+    ::raise(signal);
+}
+
+}  // namespace
+
+void removeStagedOutputsOnSignals() {
+    struct sigaction action {};
+    action.sa_handler = removeStagedAndDie;
+    sigemptyset(&action.sa_mask);
+    sigaddset(&action.sa_mask, SIGINT);
+    sigaddset(&action.sa_mask, SIGTERM);
+    action.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+}
+
 OutputSet::~OutputSet() {
-    if (committed_) return;
     for (const auto& [temporary, finalPath] : staged_) {
-        std::error_code ignored;
-        std::filesystem::remove(temporary, ignored);
+        if (!committed_) {
+            std::error_code ignored;
+            std::filesystem::remove(temporary, ignored);
+        }
+        unregisterStaged(temporary);
     }
 }
 
@@ -235,6 +295,7 @@ std::string OutputSet::stage(const std::string& finalPath) {
     }
     std::string temporary = finalPath + ".tmp-" + std::to_string(static_cast<long long>(::getpid()));
     staged_.emplace_back(temporary, finalPath);
+    registerStaged(temporary);
     return temporary;
 }
 
@@ -252,6 +313,7 @@ void OutputSet::commit() {
         if (error) {
             throw InputError(finalPath + ": cannot move the finished output into place: " + error.message());
         }
+        unregisterStaged(temporary);
     }
     committed_ = true;
 }

@@ -33,7 +33,9 @@ void writePNG(const std::string& path, const Image& image);
 
 // All-or-nothing outputs: every file is first written to "<path>.tmp-<pid>" and renamed to its
 // final name only by commit(). If the object is destroyed without commit() (an error was thrown
-// half-way), the temporaries are deleted, so a failed command leaves no partial output file.
+// half-way), the temporaries are deleted, so a failed command leaves no partial output file. After
+// removeStagedOutputsOnSignals(), SIGINT and SIGTERM delete them too before the process dies of
+// the signal (the first 64 staged paths of the process at any time; paths under 4 KB).
 class OutputSet {
 public:
     OutputSet() = default;
@@ -48,5 +50,9 @@ private:
     std::vector<std::pair<std::string, std::string>> staged_;  // (temporary, final)
     bool committed_ = false;
 };
+
+// Installs SIGINT and SIGTERM handlers that unlink every staged temporary of every live OutputSet
+// (async-signal-safe), then let the signal kill the process as it would have.
+void removeStagedOutputsOnSignals();
 
 }  // namespace shadowlab

@@ -143,7 +143,12 @@ std::string resolveScenePath(const std::string& nameOrPath) {
         isPath ? nameOrPath
                : (fs::path(projectRoot()) / "assets" / "scenes" / (nameOrPath + ".json")).string();
     std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) {
+    const fs::file_status status = fs::status(path, ec);
+    if (fs::is_directory(status)) throw InputError(path + ": is a directory, expected a scene file (.json)");
+    if (fs::exists(status) && !fs::is_regular_file(status)) {
+        throw InputError(path + ": is not a regular file (a device, pipe or socket), expected a scene file (.json)");
+    }
+    if (!fs::is_regular_file(status)) {
         const std::vector<std::string> known = listScenes();
         throw InputError(path + ": no such scene file (known scenes: " +
                          (known.empty() ? std::string("none") : join(known, ", ")) + ")");

@@ -1,10 +1,13 @@
 // The scene-file schema (assets/scenes/README.md): camera, lights, objects, transforms, motion and
 // generators, read from JSON through the validated reader (json_reader.h). Every field a file
 // contains is either read or reported, and every error names the file and the field path
-// ("objects[2].albedo[1]") with what was expected and what was found.
+// ("objects[2].albedo[1]") and its line, with what was expected and what was found. Loading has two
+// steps: every object is read and validated and its triangle count computed first; only when the
+// total is within the scene limits (SceneLimits) are the meshes built.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
 
@@ -198,7 +201,14 @@ float positiveField(const JsonReader& r, const JsonFields& f, const std::string&
         r.number(f.require(key, "a number > 0"), f.path(key), "a number > 0", kPositive));
 }
 
-Mesh readGenerator(const JsonReader& r, const JsonFields& f) {
+// An object read and validated, its mesh not built yet: `triangles` is what build() will make.
+struct PendingObject {
+    Object object;
+    uint64_t triangles = 0;
+    std::function<Mesh()> build;
+};
+
+void readGenerator(const JsonReader& r, const JsonFields& f, PendingObject& pending) {
     const json& g = f.require("generator", "\"plant\" or \"complex\"");
     const std::string generator = r.string(g, f.path("generator"), "\"plant\" or \"complex\"");
     uint64_t seed = 1;
@@ -219,7 +229,9 @@ Mesh readGenerator(const JsonReader& r, const JsonFields& f) {
         plant.leaves = static_cast<int>(p.integer("leaves", plant.leaves, 1, 20000));
         plant.height = static_cast<float>(p.number("height", plant.height, inRange(1e-3, 1000.0)));
         plant.spread = static_cast<float>(p.number("spread", plant.spread, inRange(1e-3, 1000.0)));
-        return generatePlant(seed, plant);
+        pending.triangles = estimatePlantTriangles(plant);
+        pending.build = [seed, plant] { return generatePlant(seed, plant); };
+        return;
     }
     if (generator == "complex") {
         const JsonFields p(r, params ? *params : empty, paramsPath, {"count", "extent", "height"});
@@ -227,13 +239,15 @@ Mesh readGenerator(const JsonReader& r, const JsonFields& f) {
         complex.count = static_cast<int>(p.integer("count", complex.count, 1, 100000));
         complex.extent = static_cast<float>(p.number("extent", complex.extent, inRange(1e-3, 1e4)));
         complex.height = static_cast<float>(p.number("height", complex.height, inRange(1e-3, 1e4)));
-        return generateComplex(seed, complex);
+        pending.triangles = estimateComplexTriangles(complex);
+        pending.build = [seed, complex] { return generateComplex(seed, complex); };
+        return;
     }
     r.fail(f.path("generator"), "\"plant\" or \"complex\"", describeJson(g));
 }
 
-Object readObject(const JsonReader& r, const json& v, const std::string& path, size_t index,
-                  const fs::path& sceneDir) {
+PendingObject readObject(const JsonReader& r, const json& v, const std::string& path, size_t index,
+                         const fs::path& sceneDir, const SceneLimits& limits, std::vector<std::string>& warnings) {
     const std::string type = r.peekOneOf(v, path, "type", {"plane", "quad", "box", "sphere", "cylinder", "disk", "gltf", "generator"});
     const std::vector<std::string> common = {"name",   "id",           "type",
                                              "transform", "albedo",    "casts_shadows",
@@ -250,7 +264,8 @@ Object readObject(const JsonReader& r, const json& v, const std::string& path, s
     };
     const JsonFields f(r, v, path, concat(common, kTypeFields.at(type)));
 
-    Object object;
+    PendingObject pending;
+    Object& object = pending.object;
     object.name = type + std::to_string(index);
     if (const json* name = f.find("name"))
         object.name = r.string(*name, f.path("name"), "a string");
@@ -263,7 +278,8 @@ Object readObject(const JsonReader& r, const json& v, const std::string& path, s
         float size = 1000.0f;
         if (const json* s = f.find("size"))
             size = static_cast<float>(r.number(*s, f.path("size"), "a number > 0", kPositive));
-        object.mesh = makeQuad(size, size);
+        pending.triangles = 2;
+        pending.build = [size] { return makeQuad(size, size); };
     } else if (type == "quad") {
         const json& s = f.require("size", "an array of 2 numbers > 0 ([size x, size z])");
         if (!s.is_array() || s.size() != 2) {
@@ -273,47 +289,77 @@ Object readObject(const JsonReader& r, const json& v, const std::string& path, s
             static_cast<float>(r.number(s[0], elementPath(f.path("size"), 0), "a number > 0", kPositive));
         const float sz =
             static_cast<float>(r.number(s[1], elementPath(f.path("size"), 1), "a number > 0", kPositive));
-        object.mesh = makeQuad(sx, sz);
+        pending.triangles = 2;
+        pending.build = [sx, sz] { return makeQuad(sx, sz); };
     } else if (type == "box") {
-        object.mesh = makeBox(r.vec3(f.require("size", "an array of 3 numbers > 0"), f.path("size"),
-                                     "a number > 0", kPositive));
+        const glm::vec3 size = r.vec3(f.require("size", "an array of 3 numbers > 0"), f.path("size"),
+                                      "a number > 0", kPositive);
+        pending.triangles = 12;
+        pending.build = [size] { return makeBox(size); };
     } else if (type == "sphere") {
-        object.mesh = makeSphere(positiveField(r, f, "radius"), segmentsField(r, f));
+        const float radius = positiveField(r, f, "radius");
+        const int segments = segmentsField(r, f);
+        pending.triangles = estimateSphereTriangles(segments);
+        pending.build = [radius, segments] { return makeSphere(radius, segments); };
     } else if (type == "cylinder") {
         const float radius = positiveField(r, f, "radius");
         const float height = positiveField(r, f, "height");
-        object.mesh = makeCylinder(radius, height, segmentsField(r, f));
+        const int segments = segmentsField(r, f);
+        pending.triangles = estimateCylinderTriangles(segments);
+        pending.build = [radius, height, segments] { return makeCylinder(radius, height, segments); };
     } else if (type == "disk") {
-        object.mesh = makeDisk(positiveField(r, f, "radius"), segmentsField(r, f));
+        const float radius = positiveField(r, f, "radius");
+        const int segments = segmentsField(r, f);
+        pending.triangles = estimateDiskTriangles(segments);
+        pending.build = [radius, segments] { return makeDisk(radius, segments); };
     } else if (type == "gltf") {
         const std::string expected = "a .gltf or .glb path relative to the scene file";
         const std::string file = r.string(f.require("file", expected), f.path("file"), expected);
         if (file.empty()) r.fail(f.path("file"), expected, "an empty string");
         const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : sceneDir / file;
         object.source = "gltf:" + file;
+        const std::string gltf = resolved.lexically_normal().string();
+        const std::string place = r.place(f.path("file"));
         try {
-            object.mesh = loadGltfMesh(resolved.lexically_normal().string());
+            pending.triangles = estimateGltfTriangles(gltf);
         } catch (const InputError& e) {
-            throw InputError(r.place(f.path("file")) + ": " + e.what());
+            throw InputError(place + ": " + e.what());
         }
+        pending.build = [gltf, place, limits, &warnings] {
+            try {
+                std::vector<std::string> gltfWarnings;
+                Mesh mesh = loadGltfMesh(gltf, limits, &gltfWarnings);
+                for (const std::string& w : gltfWarnings) warnings.push_back(place + ": " + w);
+                return mesh;
+            } catch (const InputError& e) {
+                throw InputError(place + ": " + e.what());
+            }
+        };
     } else {
-        object.mesh = readGenerator(r, f);
+        readGenerator(r, f, pending);
         object.source = "generator:" + f.find("generator")->get<std::string>();
     }
 
     if (const json* t = f.find("transform")) {
         object.worldFromObject = readTransform(r, *t, f.path("transform"));
-        // Extreme but individually valid numbers can still combine into an unusable transform.
-        const float det = glm::determinant(glm::mat3(object.worldFromObject));
-        bool finite = std::isfinite(det) && std::abs(det) > 1e-30f;
-        for (const glm::vec3& p : object.mesh.positions) {
-            const glm::vec4 w = object.worldFromObject * glm::vec4(p, 1.0f);
-            finite = finite && std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z);
-        }
-        if (!finite) {
-            r.fail(f.path("transform"), "a transform that keeps the object finite and invertible",
-                   "one that does not (determinant " + formatNumber(det) + ")");
-        }
+        // Extreme but individually valid numbers can still combine into an unusable transform:
+        // checked on the vertices once the mesh is built.
+        const glm::mat4 worldFromObject = object.worldFromObject;
+        const std::string transformPath = f.path("transform");
+        pending.build = [&r, worldFromObject, transformPath, build = std::move(pending.build)] {
+            Mesh mesh = build();
+            const float det = glm::determinant(glm::mat3(worldFromObject));
+            bool finite = std::isfinite(det) && std::abs(det) > 1e-30f;
+            for (const glm::vec3& p : mesh.positions) {
+                const glm::vec4 w = worldFromObject * glm::vec4(p, 1.0f);
+                finite = finite && std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z);
+            }
+            if (!finite) {
+                r.fail(transformPath, "a transform that keeps the object finite and invertible",
+                       "one that does not (determinant " + formatNumber(det) + ")");
+            }
+            return mesh;
+        };
     }
     if (const json* a = f.find("albedo"))
         object.albedo = r.vec3(*a, f.path("albedo"), "a number in [0, 1]", kUnit);
@@ -322,10 +368,10 @@ Object readObject(const JsonReader& r, const json& v, const std::string& path, s
     if (const json* c = f.find("receives_shadows"))
         object.receivesShadows = r.boolean(*c, f.path("receives_shadows"));
     if (const json* m = f.find("motion")) object.motion = readMotion(r, *m, f.path("motion"));
-    return object;
+    return pending;
 }
 
-Scene readScene(const JsonReader& r, const json& root, const std::string& path) {
+Scene readScene(const JsonReader& r, const json& root, const std::string& path, const SceneLimits& limits) {
     const JsonFields f(r, root, "", {"name", "description", "camera", "ambient", "lights", "objects"});
     Scene scene;
     scene.path = path;
@@ -352,8 +398,15 @@ Scene readScene(const JsonReader& r, const json& root, const std::string& path) 
     if (!objects.is_array()) r.fail("objects", "an array of objects", describeJson(objects));
     const fs::path sceneDir = fs::path(path).parent_path();
     std::map<int, size_t> idOwner;
+    std::vector<PendingObject> pending;
+    uint64_t triangles = 0;
+    size_t largest = 0;
     for (size_t i = 0; i < objects.size(); ++i) {
-        Object object = readObject(r, objects[i], elementPath("objects", i), i, sceneDir);
+        pending.push_back(
+            readObject(r, objects[i], elementPath("objects", i), i, sceneDir, limits, scene.warnings));
+        const Object& object = pending.back().object;
+        triangles += pending.back().triangles;
+        if (pending.back().triangles > pending[largest].triangles) largest = i;
         const auto [it, inserted] = idOwner.emplace(object.id, i);
         if (!inserted) {
             const bool explicitId = objects[i].contains("id");
@@ -362,20 +415,41 @@ Scene readScene(const JsonReader& r, const json& root, const std::string& path) 
                        (explicitId ? "" : " (the default: the object's index)") +
                        ", which objects[" + std::to_string(it->second) + "] already has");
         }
-        scene.objects.push_back(std::move(object));
+    }
+    // Everything is valid: check the size of the whole scene before building any mesh.
+    if (triangles > limits.maxTriangles) {
+        const PendingObject& big = pending[largest];
+        throw InputError(
+            path + ": the scene would need " + std::to_string(triangles) + " triangles (about " +
+            describeBytes(double(triangles) * double(kBytesPerTriangle)) + " of memory) for " +
+            std::to_string(pending.size()) + " object(s), the largest " + elementPath("objects", largest) + " \"" +
+            big.object.name + "\" with " + std::to_string(big.triangles) + "; that is over the limit of " +
+            std::to_string(limits.maxTriangles) + " triangles (--max-triangles N raises it)");
+    }
+    for (PendingObject& p : pending) {
+        p.object.mesh = p.build();
+        p.build = nullptr;  // frees what the builder holds
+        scene.objects.push_back(std::move(p.object));
     }
     return scene;
 }
 
 }  // namespace
 
-Scene loadScene(const std::string& nameOrPath) {
+Scene loadScene(const std::string& nameOrPath, const SceneLimits& limits) {
     const std::string path = resolveScenePath(nameOrPath);
+    std::error_code ec;
+    const uintmax_t bytes = fs::file_size(path, ec);
+    if (!ec && bytes == 0) throw InputError(path + ": the file is empty, expected a JSON scene object");
+    // 256 MB of JSON is far beyond any scene (geometry comes from primitives, generators, glTF).
+    if (!ec && bytes > (uintmax_t(256) << 20)) {
+        throw InputError(path + ": the scene file is " + describeBytes(double(bytes)) +
+                         ", over the 268 MB a scene file may have (put geometry in a glTF file)");
+    }
     const JsonDocument document = JsonDocument::fromFile(path, "scene file");
-    // Scene messages name the file and the field path, not the line (kept as they were when the
-    // reader was split out; Lines::Named would add ":<line>" after the file).
-    const JsonReader reader(document, JsonReader::Lines::Omitted);
-    return readScene(reader, document.root(), path);
+    // Messages name the file, the line and the field path ("scene.json:12: objects[2].size[1]: ...").
+    const JsonReader reader(document, JsonReader::Lines::Named);
+    return readScene(reader, document.root(), path, limits);
 }
 
 

@@ -46,6 +46,16 @@ glm::mat4 frameAlong(const glm::vec3& origin, const glm::vec3& axis) {
 
 }  // namespace
 
+uint64_t estimatePlantTriangles(const PlantParams& params) {
+    // The pot (a 24-segment cylinder), the stems (boxes) and two triangles per leaf, as below.
+    const uint64_t stems = static_cast<uint64_t>(std::clamp(params.leaves / 40, 3, 24));
+    return estimateCylinderTriangles(24) + 12 * stems + 2 * static_cast<uint64_t>(std::max(params.leaves, 0));
+}
+
+uint64_t estimateComplexTriangles(const ComplexParams& params) {
+    return 12 * static_cast<uint64_t>(std::max(params.count, 0));
+}
+
 // A potted plant like buades2015's "plant" scene: a pot, a few stems fanning out from it, and many
 // small diamond-shaped leaves hanging off the stems at random orientations. Thin, numerous,
 // overlapping occluders: the case where blocker averaging and occluder fusion go wrong.

@@ -1,6 +1,9 @@
 // glTF 2.0 (.gltf and .glb) meshes for "gltf" scene objects, read with tinygltf. Everything the
-// file says is checked before it is used (indices, accessor ranges, node cycles): a user's file
-// may be wrong, and a bad file must give an error naming it, never a crash.
+// file says is checked before it is used (indices, accessor ranges, the node tree, extensions,
+// the triangle count against the scene limits): a user's file may be wrong, and a bad file must
+// give an error naming it, never a crash, a hang or an exhausted machine. The node tree is walked
+// with an explicit stack (a 10,000-deep chain is legal), and a node with two parents is refused
+// as glTF 2.0 requires (it would otherwise make the walk exponential).
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -8,6 +11,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <set>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -24,6 +29,73 @@ namespace {
 bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                  const unsigned char*, int, void*) {
     return true;
+}
+
+// File access for buffers and images: only regular files, read in full with a size check (the
+// default callback reads a directory as a file of 2^63 bytes: std::bad_alloc), and paths taken as
+// they are (the default expands them with wordexp, i.e. shell syntax, from an untrusted file).
+bool fileExists(const std::string& path, void*) {
+    std::error_code ec;
+    return std::filesystem::exists(path, ec);
+}
+
+std::string expandPath(const std::string& path, void*) { return path; }
+
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (ec || !fs::exists(status)) {
+        if (err) *err += "no such file";
+        return false;
+    }
+    if (fs::is_directory(status)) {
+        if (err) *err += "is a directory, expected a file";
+        return false;
+    }
+    if (!fs::is_regular_file(status)) {
+        if (err) *err += "is not a regular file";
+        return false;
+    }
+    const uintmax_t size = fs::file_size(path, ec);
+    // 2 GiB: beyond what a glTF buffer's byteLength (and this loader's limits) can use.
+    constexpr uintmax_t kMaxFile = uintmax_t(1) << 31;
+    if (ec || size > kMaxFile) {
+        if (err) *err += "is larger than 2 GiB";
+        return false;
+    }
+    std::ifstream in(path, std::ios::binary);
+    out->resize(static_cast<size_t>(size));
+    if (size > 0) in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size));
+    if (!in) {
+        if (err) *err += "cannot be read";
+        return false;
+    }
+    return true;
+}
+
+bool writeWholeFile(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "shadowlab does not write glTF files";
+    return false;
+}
+
+// Extensions a file may require without changing its geometry (materials, textures, lights are
+// irrelevant to shadows). Any other required extension (KHR_draco_mesh_compression,
+// EXT_meshopt_compression, KHR_mesh_quantization, ...) is refused by name.
+bool harmlessExtension(const std::string& name) {
+    for (const char* prefix : {"KHR_materials_", "KHR_texture_", "EXT_texture_", "KHR_lights_punctual"}) {
+        if (name.rfind(prefix, 0) == 0) return true;
+    }
+    return false;
+}
+
+std::string withCommas(uint64_t n) {
+    std::string digits = std::to_string(n), out;
+    for (size_t i = 0; i < digits.size(); ++i) {
+        if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+        out += digits[i];
+    }
+    return out;
 }
 
 class GltfReader {
@@ -189,7 +261,19 @@ public:
         for (size_t p = 0; p < mesh.primitives.size(); ++p) {
             const std::string what =
                 "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(p) + "]";
-            appendMesh(out, primitive(mesh.primitives[p], what), worldFromMesh);
+            const tinygltf::Primitive& prim = mesh.primitives[p];
+            if (prim.extensions.count("KHR_draco_mesh_compression")) {
+                // Draco is only used, not required: the primitive must carry uncompressed data too.
+                try {
+                    appendMesh(out, primitive(prim, what), worldFromMesh);
+                } catch (const InputError& e) {
+                    throw InputError(std::string(e.what()) +
+                                     " (this primitive is Draco-compressed, KHR_draco_mesh_compression, which "
+                                     "shadowlab does not support, and its uncompressed fallback is not usable)");
+                }
+                continue;
+            }
+            appendMesh(out, primitive(prim, what), worldFromMesh);
         }
     }
 
@@ -228,54 +312,188 @@ public:
         return glm::mat4(m);
     }
 
-    void addNode(Mesh& out, int index, const glm::mat4& worldFromParent,
-                 std::vector<bool>& onPath) const {
-        if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size()) {
-            fail("node " + std::to_string(index) + " does not exist");
+    // Checks the file before anything is built: required extensions, the node tree (every node
+    // has at most one parent, scene roots have none, no node is a root twice) and the roots to walk.
+    void checkExtensions() const {
+        for (const std::string& name : model_.extensionsRequired) {
+            if (harmlessExtension(name)) continue;
+            fail("requires the extension " + name + ", which shadowlab does not support" +
+                 (name == "KHR_draco_mesh_compression"
+                      ? " (Draco-compressed meshes: re-export the model without compression)"
+                      : ""));
         }
-        if (onPath[static_cast<size_t>(index)]) {
-            fail("nodes[" + std::to_string(index) +
-                 "] is its own ancestor (cycle in the node tree)");
-        }
-        onPath[static_cast<size_t>(index)] = true;
-        const tinygltf::Node& node = model_.nodes[static_cast<size_t>(index)];
-        const glm::mat4 worldFromNode = worldFromParent * localTransform(node, index);
-        if (node.mesh >= 0) addMesh(out, node.mesh, worldFromNode);
-        for (int child : node.children) addNode(out, child, worldFromNode, onPath);
-        onPath[static_cast<size_t>(index)] = false;
     }
 
-    Mesh all() const {
-        Mesh out;
-        std::vector<bool> onPath(model_.nodes.size(), false);
-        std::vector<int> roots;
+    std::vector<int> roots() {
+        const size_t n = model_.nodes.size();
+        parent_.assign(n, -1);
+        for (size_t i = 0; i < n; ++i) {
+            for (int child : model_.nodes[i].children) {
+                if (child < 0 || static_cast<size_t>(child) >= n) {
+                    fail("nodes[" + std::to_string(i) + "].children: node " + std::to_string(child) +
+                         " does not exist");
+                }
+                int& p = parent_[static_cast<size_t>(child)];
+                if (p >= 0) {
+                    // Also a child listed twice by the same node ("two parents" that are one node).
+                    fail("nodes[" + std::to_string(child) + "] has two parents (nodes[" + std::to_string(p) +
+                         "] and nodes[" + std::to_string(i) +
+                         "]); glTF 2.0 allows one (a node tree, not a graph)");
+                }
+                p = static_cast<int>(i);
+            }
+        }
+        std::vector<int> out;
         if (!model_.scenes.empty()) {
             // The default scene, or scene 0 when the file names none.
             const int scene = model_.defaultScene >= 0 && static_cast<size_t>(model_.defaultScene) <
                                                               model_.scenes.size()
                                   ? model_.defaultScene
                                   : 0;
-            roots = model_.scenes[static_cast<size_t>(scene)].nodes;
-        } else if (!model_.nodes.empty()) {
-            // No scenes: every node that is nobody's child is a root.
-            std::vector<bool> isChild(model_.nodes.size(), false);
-            for (const tinygltf::Node& node : model_.nodes) {
-                for (int child : node.children) {
-                    if (child >= 0 && static_cast<size_t>(child) < isChild.size()) {
-                        isChild[static_cast<size_t>(child)] = true;
-                    }
+            const std::string what = "scenes[" + std::to_string(scene) + "].nodes";
+            std::set<int> seen;
+            for (int root : model_.scenes[static_cast<size_t>(scene)].nodes) {
+                if (root < 0 || static_cast<size_t>(root) >= n) {
+                    fail(what + ": node " + std::to_string(root) + " does not exist");
                 }
-            }
-            for (size_t i = 0; i < model_.nodes.size(); ++i) {
-                if (!isChild[i]) roots.push_back(static_cast<int>(i));
+                if (!seen.insert(root).second) fail(what + ": nodes[" + std::to_string(root) + "] is listed twice");
+                if (parent_[static_cast<size_t>(root)] >= 0) {
+                    fail(what + ": nodes[" + std::to_string(root) + "] is a scene root but also a child of nodes[" +
+                         std::to_string(parent_[static_cast<size_t>(root)]) + "]; glTF 2.0 roots have no parent");
+                }
+                out.push_back(root);
             }
         } else {
+            // No scenes: every node that is nobody's child is a root.
+            for (size_t i = 0; i < n; ++i) {
+                if (parent_[i] < 0) out.push_back(static_cast<int>(i));
+            }
+        }
+        // With one parent per node and parentless roots, a walk from the roots meets no cycle; a
+        // cycle elsewhere (unreachable, every member with a parent) is reported all the same.
+        std::vector<char> reached(n, 0);
+        std::vector<int> stack(out.begin(), out.end());
+        while (!stack.empty()) {
+            const int i = stack.back();
+            stack.pop_back();
+            reached[static_cast<size_t>(i)] = 1;
+            for (int child : model_.nodes[static_cast<size_t>(i)].children) stack.push_back(child);
+        }
+        // Unreached nodes: follow each parent chain once (0 unvisited, 1 on the chain being
+        // followed, 2 done); meeting the current chain again is a cycle. O(number of nodes).
+        std::vector<char> state(n, 0);
+        std::vector<size_t> chainOf(n, 0);
+        for (size_t i = 0; i < n; ++i) {
+            if (reached[i] || state[i] != 0) continue;
+            int p = static_cast<int>(i);
+            std::vector<int> chain;
+            while (p >= 0 && state[static_cast<size_t>(p)] == 0) {
+                state[static_cast<size_t>(p)] = 1;
+                chainOf[static_cast<size_t>(p)] = i;
+                chain.push_back(p);
+                p = parent_[static_cast<size_t>(p)];
+            }
+            if (p >= 0 && state[static_cast<size_t>(p)] == 1 && chainOf[static_cast<size_t>(p)] == i) {
+                fail("nodes[" + std::to_string(p) + "] is its own ancestor (cycle in the node tree)");
+            }
+            for (int c : chain) state[static_cast<size_t>(c)] = 2;
+        }
+        return out;
+    }
+
+    // Triangles of one instance of mesh `meshIndex`, from the accessor counts (nothing is read).
+    uint64_t meshTriangles(int meshIndex) {
+        if (meshIndex < 0 || static_cast<size_t>(meshIndex) >= model_.meshes.size()) {
+            fail("mesh " + std::to_string(meshIndex) + " does not exist");
+        }
+        if (meshTriangles_.empty()) meshTriangles_.assign(model_.meshes.size(), -1);
+        int64_t& cached = meshTriangles_[static_cast<size_t>(meshIndex)];
+        if (cached >= 0) return static_cast<uint64_t>(cached);
+        uint64_t total = 0;
+        for (const tinygltf::Primitive& primitive : model_.meshes[static_cast<size_t>(meshIndex)].primitives) {
+            int accessor = primitive.indices;
+            if (accessor < 0) {
+                const auto position = primitive.attributes.find("POSITION");
+                accessor = position == primitive.attributes.end() ? -1 : position->second;
+            }
+            if (accessor >= 0 && static_cast<size_t>(accessor) < model_.accessors.size()) {
+                total += model_.accessors[static_cast<size_t>(accessor)].count / 3;
+            }
+        }
+        cached = static_cast<int64_t>(total);
+        return total;
+    }
+
+    // Visits every node reachable from `roots` with its world transform, depth first, without
+    // recursion. visit(nodeIndex, node, worldFromNode).
+    template <class Visit>
+    void walk(const std::vector<int>& roots, bool transforms, Visit visit) const {
+        struct Item {
+            int node;
+            glm::mat4 worldFromParent;
+        };
+        std::vector<Item> stack;
+        for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, glm::mat4(1.0f)});
+        while (!stack.empty()) {
+            const Item item = stack.back();
+            stack.pop_back();
+            const tinygltf::Node& node = model_.nodes[static_cast<size_t>(item.node)];
+            const glm::mat4 worldFromNode =
+                transforms ? item.worldFromParent * localTransform(node, item.node) : glm::mat4(1.0f);
+            visit(item.node, node, worldFromNode);
+            for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, worldFromNode});
+        }
+    }
+
+    uint64_t triangles() {
+        checkExtensions();
+        const std::vector<int> rootNodes = roots();
+        uint64_t total = 0;
+        if (model_.nodes.empty()) {
+            for (size_t m = 0; m < model_.meshes.size(); ++m) total += meshTriangles(static_cast<int>(m));
+        }
+        walk(rootNodes, false, [&](int, const tinygltf::Node& node, const glm::mat4&) {
+            if (node.mesh >= 0) total += meshTriangles(node.mesh);
+        });
+        return total;
+    }
+
+    Mesh all(const SceneLimits& limits, std::vector<std::string>* warnings) {
+        const uint64_t needed = triangles();
+        if (needed > limits.maxTriangles) {
+            fail("would need " + std::to_string(needed) + " triangles (" + withCommas(needed) + ", about " +
+                 describeBytes(double(needed) * double(kBytesPerTriangle)) + " of memory), over the limit of " +
+                 std::to_string(limits.maxTriangles) + " triangles (--max-triangles N raises it)");
+        }
+        Mesh out;
+        const std::vector<int> rootNodes = roots();
+        if (model_.nodes.empty()) {
             // No nodes at all: take every mesh as it is.
             for (size_t m = 0; m < model_.meshes.size(); ++m) {
                 addMesh(out, static_cast<int>(m), glm::mat4(1.0f));
             }
         }
-        for (int root : roots) addNode(out, root, glm::mat4(1.0f), onPath);
+        size_t skinned = 0, morphed = 0;
+        int firstSkinned = -1, firstMorphed = -1;
+        walk(rootNodes, true, [&](int index, const tinygltf::Node& node, const glm::mat4& worldFromNode) {
+            if (node.mesh < 0) return;
+            if (node.skin >= 0 && skinned++ == 0) firstSkinned = index;
+            const tinygltf::Mesh& mesh = model_.meshes.at(static_cast<size_t>(node.mesh));
+            const bool hasTargets = std::any_of(mesh.primitives.begin(), mesh.primitives.end(),
+                                                [](const tinygltf::Primitive& p) { return !p.targets.empty(); });
+            if (hasTargets && morphed++ == 0) firstMorphed = node.mesh;
+            addMesh(out, node.mesh, worldFromNode);
+        });
+        if (warnings && skinned > 0) {
+            warnings->push_back(path_ + ": nodes[" + std::to_string(firstSkinned) + "]" +
+                                (skinned > 1 ? " and " + std::to_string(skinned - 1) + " other node(s) have" : " has") +
+                                " a skin; skinning is not supported, so the mesh is drawn in its rest pose");
+        }
+        if (warnings && morphed > 0) {
+            warnings->push_back(path_ + ": meshes[" + std::to_string(firstMorphed) + "]" +
+                                (morphed > 1 ? " and " + std::to_string(morphed - 1) + " other instance(s) have" : " has") +
+                                " morph targets; morphing is not supported, so the mesh is drawn in its rest pose");
+        }
         if (out.triangleCount() == 0) fail("contains no triangles");
         for (const glm::vec3& p : out.positions) {
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
@@ -288,14 +506,24 @@ public:
 private:
     const std::string& path_;
     const tinygltf::Model& model_;
+    std::vector<int> parent_;
+    std::vector<int64_t> meshTriangles_;
 };
 
 }  // namespace
 
-Mesh loadGltfMesh(const std::string& path) {
+namespace {
+
+// Parses the file with tinygltf (no images decoded, only regular files read). InputError naming
+// the file on failure.
+void parseGltf(const std::string& path, tinygltf::Model& model) {
+    namespace fs = std::filesystem;
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such glTF file");
-    std::string extension = std::filesystem::path(path).extension().string();
+    const fs::file_status status = fs::status(path, ec);
+    if (ec || !fs::exists(status)) throw InputError(path + ": no such glTF file");
+    if (fs::is_directory(status)) throw InputError(path + ": is a directory, expected a .gltf or .glb file");
+    if (!fs::is_regular_file(status)) throw InputError(path + ": is not a regular file, expected a .gltf or .glb file");
+    std::string extension = fs::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (extension != ".gltf" && extension != ".glb") {
@@ -305,7 +533,7 @@ Mesh loadGltfMesh(const std::string& path) {
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(ignoreImage, nullptr);
-    tinygltf::Model model;
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{fileExists, expandPath, readWholeFile, writeWholeFile, nullptr});
     std::string err, warn;
     bool ok = false;
     try {
@@ -325,7 +553,28 @@ Mesh loadGltfMesh(const std::string& path) {
         if (err.size() > 500) err = err.substr(0, 497) + "...";
         throw InputError(path + ": cannot read glTF: " + (err.empty() ? "unknown error" : err));
     }
-    return GltfReader(path, model).all();
+}
+
+}  // namespace
+
+std::string describeBytes(double bytes) {
+    char text[64];
+    if (bytes >= 1e9) std::snprintf(text, sizeof text, "%.1f GB", bytes / 1e9);
+    else if (bytes >= 1e6) std::snprintf(text, sizeof text, "%.0f MB", bytes / 1e6);
+    else std::snprintf(text, sizeof text, "%.0f KB", bytes / 1e3);
+    return text;
+}
+
+uint64_t estimateGltfTriangles(const std::string& path) {
+    tinygltf::Model model;
+    parseGltf(path, model);
+    return GltfReader(path, model).triangles();
+}
+
+Mesh loadGltfMesh(const std::string& path, const SceneLimits& limits, std::vector<std::string>* warnings) {
+    tinygltf::Model model;
+    parseGltf(path, model);
+    return GltfReader(path, model).all(limits, warnings);
 }
 
 }  // namespace shadowlab

@@ -83,6 +83,18 @@ Mesh makeBox(const glm::vec3& size) {
     return mesh;
 }
 
+// --- Triangle counts (scene limits are checked with these before a mesh is built) ----------------
+
+uint64_t estimateSphereTriangles(int segments) {
+    // Rings of quads, two triangles each, less one at each pole.
+    const uint64_t rings = static_cast<uint64_t>(std::max(2, segments / 2));
+    return static_cast<uint64_t>(segments) * (2 * rings - 2);
+}
+
+uint64_t estimateCylinderTriangles(int segments) { return 4 * static_cast<uint64_t>(segments); }
+
+uint64_t estimateDiskTriangles(int segments) { return static_cast<uint64_t>(segments); }
+
 Mesh makeSphere(float radius, int segments) {
     Mesh mesh;
     const int rings = std::max(2, segments / 2);
