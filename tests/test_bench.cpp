@@ -248,3 +248,49 @@ TEST(Bench, ShippedSpecsLoad) {
             << spec << ": " << r.output;
     }
 }
+
+// ---- the chart in-process: the Pareto front and the window's highlighted setting -----------------
+#include "chart_accuracy_time.h"
+#include "gl_fixture.h"
+#include "vtk_offscreen.h"
+
+TEST(AccuracyTimeChart, ParetoFrontKeepsOnlyUnbeatenSettings) {
+    using shadowlab::AccuracyTimePoint;
+    std::vector<AccuracyTimePoint> points = {
+        {"hard", "default", 1.0, 0.10, false},  // fastest: on the front
+        {"pcf", "n=3", 2.0, 0.12, false},       // slower and worse than hard: off
+        {"pcf", "n=9", 4.0, 0.08, false},       // on
+        {"pcf", "n=15", 4.0, 0.09, false},      // same time as n=9, worse: off
+        {"reference", "N=16", 50.0, 0.02, false},  // on
+        {"reference", "N=64", 40.0, 0.03, false},  // faster than N=16 and better than n=9: on
+    };
+    std::vector<size_t> front = shadowlab::paretoFront(points);
+    EXPECT_EQ(front, (std::vector<size_t>{0, 2, 5, 4}));
+}
+
+class AccuracyTimeChartGL : public shadowlab::testing::GLTest {};
+
+TEST_F(AccuracyTimeChartGL, HighlightedSettingIsRingedAndZeroErrorIsDrawn) {
+    using shadowlab::AccuracyTimePoint;
+    shadowlab::AccuracyTimePanel panel{"test", {{"hard", "default", 1.5, 0.1, false},
+                                                {"pcf", "n=9", 6.0, 0.05, true},
+                                                {"raytraced", "M=256", 300.0, 0.0, false},
+                                                {"reference", "N=64", 200.0, 0.004, false}}};
+    const std::string path = testPath("bench", "highlight.png");
+    shadowlab::writeAccuracyTimeChart({panel}, {}, 600, 400, path, ".png");
+    EXPECT_EQ(shadowlab::vtkMessages().errors, 0) << shadowlab::vtkMessages().last;
+    int w = 0, h = 0, n = 0;
+    unsigned char* png = stbi_load(path.c_str(), &w, &h, &n, 3);
+    ASSERT_NE(png, nullptr);
+    auto count = [&](int r0, int g0, int b0) {
+        int c = 0;
+        for (int i = 0; i < w * h; ++i)
+            if (std::abs(png[i * 3] - r0) < 20 && std::abs(png[i * 3 + 1] - g0) < 20 && std::abs(png[i * 3 + 2] - b0) < 20) ++c;
+        return c;
+    };
+    EXPECT_GT(count(220, 0, 0), 40);    // the red ring around the current setting (and its legend entry)
+    // raytraced's point, in its own colour (the registry's fourth), though an error of 0 has no place on
+    // a log axis: it is drawn at the axis floor.
+    EXPECT_GT(count(204, 121, 167), 20);
+    stbi_image_free(png);
+}

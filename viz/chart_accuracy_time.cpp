@@ -27,6 +27,7 @@
 
 #include "error.h"
 #include "image.h"
+#include "technique.h"
 #include "vtk_offscreen.h"
 
 namespace shadowlab {
@@ -132,7 +133,8 @@ public:
                 float x, y;
                 if (!at(p, x, y)) continue;
                 painter->DrawEllipse(x, y, radius, radius);
-                taken.push_back({x - radius, y - radius, x + radius, y + radius});
+                const float r = p.highlight ? 2.2f * radius + 1.5f : radius;  // the ring drawn below
+                taken.push_back({x - r, y - r, x + r, y + r});
             }
         }
         if (labels)
@@ -144,7 +146,7 @@ public:
                     const std::string label = p.error <= 0.0 && logY ? p.label + " (error 0)" : p.label;
                     float b[4];
                     painter->ComputeStringBounds(label, b);
-                    const float w = b[2], h = b[3], gap = radius + 1.0f;
+                    const float w = b[2], h = b[3], gap = (p.highlight ? 2.2f * radius + 1.5f : radius) + 1.0f;
                     const Box candidates[] = {{x + gap, y + 1.0f, x + gap + w, y + 1.0f + h},
                                               {x + gap, y - 1.0f - h, x + gap + w, y - 1.0f},
                                               {x - gap - w, y + 1.0f, x - gap, y + 1.0f + h},
@@ -238,6 +240,20 @@ vtkStandardNewMacro(AccuracyTimeMarks);
 const unsigned char kColours[][3] = {{0, 114, 178},  {213, 94, 0},   {0, 158, 115},  {204, 121, 167},
                                      {230, 159, 0},  {86, 180, 233}, {120, 120, 120}, {240, 228, 66}};
 
+// A technique keeps its colour in every chart: its place in the registry (the order of `shadowlab
+// list`); names the registry does not know take the colours after, in the order they appear.
+size_t colourIndex(const std::string& name, const std::vector<std::string>& series) {
+    const auto& all = allTechniques();
+    for (size_t i = 0; i < all.size(); ++i)
+        if (all[i]->id == name) return i % 8;
+    size_t unknown = 0;
+    for (const std::string& s : series) {
+        if (s == name) break;
+        if (!findTechnique(s)) ++unknown;
+    }
+    return (all.size() + unknown) % 8;
+}
+
 bool spansDecades(double lo, double hi) { return lo > 0.0 && hi / lo > 10.0; }
 
 }  // namespace
@@ -305,7 +321,7 @@ vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& pane
     for (size_t i : front) marks->front.push_back(panel.points[i]);
     for (size_t s = 0; s < series.size(); ++s) {
         AccuracyTimeMarks::Series entry;
-        std::copy_n(kColours[s % 8], 3, entry.colour);
+        std::copy_n(kColours[colourIndex(series[s], series)], 3, entry.colour);
         for (const AccuracyTimePoint& p : panel.points)
             if (p.series == series[s]) entry.points.push_back(p);
         marks->series.push_back(entry);

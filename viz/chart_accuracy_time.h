@@ -41,7 +41,8 @@ struct AccuracyTimeStyle {
 // sorted by time. Ties in time keep the more accurate point.
 std::vector<size_t> paretoFront(const std::vector<AccuracyTimePoint>& points);
 
-// One chart. The series appear in the order their names first occur.
+// One chart. The series appear in the order their names first occur; a technique's colour is fixed
+// by its place in the registry (the same in every chart and in the window).
 vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& panel, const AccuracyTimeStyle& style);
 
 // The panels in a grid (columns x rows chosen from their count) rendered at width x height and
