@@ -12,15 +12,19 @@
 #include "error.h"
 #include "gl_context.h"
 #include "image.h"
+#include "lesson_cli.h"
 #include "metrics.h"
 #include "provenance.h"
 #include "renderer.h"
 #include "scene.h"
 #include "technique.h"
+#include "views.h"
 
 namespace fs = std::filesystem;
 
 namespace shadowlab {
+
+int commandViz(const std::vector<std::string>& args);  // app/cmd_viz.cpp
 
 // ---- option parsing ----------------------------------------------------------------------------------
 Options::Options(const std::string& command, const std::vector<std::string>& args, size_t first,
@@ -157,8 +161,10 @@ int commandList(const std::vector<std::string>& args) {
         }
         j["scenes"].push_back(s);
     }
-    j["lessons"] = nlohmann::json::array();
+    j["lessons"] = describeLessons();
     j["views"] = nlohmann::json::array();
+    for (const ViewInfo& v : listViews())
+        j["views"].push_back({{"name", v.name}, {"doc", v.doc}, {"applies_to", v.appliesTo}, {"export", v.exportExtension}});
     if (opts.has("--json")) {
         std::cout << j.dump(2) << "\n";
         return 0;
@@ -178,7 +184,16 @@ int commandList(const std::vector<std::string>& args) {
     for (const auto& s : j["scenes"])
         std::cout << "  " << s["name"].get<std::string>() << "  "
                   << (s.contains("description") ? s["description"].get<std::string>() : s.value("error", "")) << "\n";
-    std::cout << "Lessons\n  (none yet)\n";
+    std::cout << "Lessons\n";
+    for (const auto& l : j["lessons"])
+        std::cout << "  " << l["name"].get<std::string>() << "  "
+                  << (l.contains("title") ? l["title"].get<std::string>() + " (" + std::to_string(l["steps"].get<int>()) + " steps)"
+                                          : l["error"].get<std::string>())
+                  << "\n";
+    std::cout << "Views (shadowlab viz --view V)\n";
+    for (const auto& v : j["views"])
+        std::cout << "  " << v["name"].get<std::string>() << "  " << v["doc"].get<std::string>() << "\n    applies to "
+                  << v["applies_to"].get<std::string>() << "\n";
     return 0;
 }
 
@@ -464,6 +479,12 @@ void printUsage() {
         "  shadowlab reference --scene S [--samples N | --rays M] --out v.pfm [--size WxH] [--light-size S]\n"
         "  shadowlab compare A.pfm B.pfm [--mask penumbra] [--json] [--heatmap err.png] [--strict]\n"
         "  shadowlab scene --scene S --dump-triangles out.obj [--time t]\n"
+        "  shadowlab lesson L --headless --out DIR [--size WxH] | --check   a lesson as PNGs + HTML handout\n"
+
+        "  shadowlab viz --view V --scene S [--technique T] [--set k=v]... [--pixel x,y] [--internal NAME] [--light N]\n"
+        "                [--size WxH] [--view-size WxH] --out view.png [--export data.vtp|.vti]\n"
+        "                [--reference v.pfm | --reference-samples N]"
+        " [--rays M] [--azimuth deg] [--elevation deg] [--zoom z] [--json]\n"
         "  shadowlab bench (--spec NAME|file.json | --scenes A,B --techniques T1,T2 [--sweep key=a:b:n|key=v1,v2]...)\n"
         "                  [--light-sizes s1,s2] [--size WxH] [--frames N] [--warmup N] [--reference raytraced:M|reference:N]\n"
         "                  [--cache DIR] [--csv out.csv] [--plot p.png|p.svg|p.pdf]... [--latex t.tex] [--report r.md]\n"
@@ -483,6 +504,8 @@ int runCommandLine(const std::vector<std::string>& args) {
         if (command == "reference") return commandReference(args);
         if (command == "compare") return commandCompare(args);
         if (command == "scene") return commandScene(args);
+        if (command == "lesson") return commandLesson(args);
+        if (command == "viz") return commandViz(args);
         if (command == "bench") return commandBench(args);
         if (command == "figure") return commandFigure(args);
         if (command == "window") return runWindow(std::vector<std::string>(args.begin() + 1, args.end()));
@@ -491,7 +514,7 @@ int runCommandLine(const std::vector<std::string>& args) {
             return 0;
         }
         throw InputError("unknown command '" + command +
-                         "' (expected one of: list, render, reference, compare, scene, bench, figure, window, help)");
+                         "' (expected one of: list, render, reference, compare, scene, viz, lesson, bench, figure, window, help)");
     } catch (const InputError& e) {
         std::fprintf(stderr, "shadowlab: %s\n", e.what());
         return 2;

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Set-up (install what is missing, build), then the main job: with a display, the window on the
-# default scene and technique; without one, the default scene rendered headless into a folder.
+# default scene and technique; without one, the default scene rendered headless into a folder and
+# the `intro` lesson rendered as an HTML handout (its path is printed last).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/build.sh"
@@ -19,3 +20,6 @@ done
 "$bin" compare "$out/square-occluder-pcf.pfm" "$out/square-occluder-raytraced.pfm" \
   --heatmap "$out/square-occluder-pcf-error.png" | tee "$out/square-occluder-pcf-error.txt"
 echo "shadowlab demo: rendered the default scene (square-occluder) into $out"
+# The intro lesson, every step as pictures with its narration (lessons/README.md).
+page="$("$bin" lesson intro --headless --out "$out/lesson-intro" --size 320x320)"
+echo "shadowlab demo: the intro lesson: $page"

@@ -5,6 +5,8 @@ namespace shadowlab {
 
 const TechniqueDesc& hardTechnique();
 const TechniqueDesc& pcfTechnique();
+const TechniqueDesc& ssmGbp06Technique();
+const TechniqueDesc& ssmContourTechnique();
 const TechniqueDesc& referenceTechnique();
 const TechniqueDesc& raytracedTechnique();
 
@@ -12,6 +14,8 @@ const std::vector<const TechniqueDesc*>& allTechniques() {
     static const std::vector<const TechniqueDesc*> all = {
         &hardTechnique(),
         &pcfTechnique(),
+        &ssmGbp06Technique(),
+        &ssmContourTechnique(),
         &referenceTechnique(),
         &raytracedTechnique(),
     };

@@ -213,6 +213,9 @@ TEST_F(Stage2Render, EveryParameterValueGivesVisibilityInUnitRange) {
                 if (desc->id == "reference" && p.key == "samples") options.sets.push_back({"sm_size", "64"});
                 // sm_size 8192 with 4 samples would render four 8192^2 maps: one sample there.
                 if (desc->id == "reference" && p.key == "sm_size") options.sets[0].second = "1";
+                // Back-projection at sm_size 8192 walks kernels of max_kernel^2 texels per pixel: a
+                // small cap there (the sweep checks the range of v, not its accuracy).
+                if (desc->findParam("max_kernel") && p.key == "sm_size") options.sets.push_back({"max_kernel", "32"});
                 options.sets.push_back({p.key, value});
                 std::string what = desc->id + " " + p.key + "=" + value;
                 SCOPED_TRACE(what);
@@ -555,6 +558,45 @@ TEST(Stage2Stats, StaticSceneReportsCostSeparatelyFromFrameTime) {
     RecordProperty("fixed_ms", numberText(fixed));
     std::printf("[ stats    ] pcf 64x64 static: frame_ms %.4f cost_ms %.4f shadow_ms %.4f fixed_ms %.4f\n", frame, cost,
                 shadow, fixed);
+}
+
+// frameCost (frame_stats.h) is what --stats and the bench report: a hand-made graph with known
+// times per frame gives known medians and the shadow/fixed split by technique.
+TEST(Stage2Stats, FrameCostSplitsNeededPassesByTechnique) {
+    EXPECT_DOUBLE_EQ(medianMs({}), 0.0);
+    EXPECT_DOUBLE_EQ(medianMs({3.0, 1.0, 2.0}), 2.0);
+    EXPECT_DOUBLE_EQ(medianMs({4.0, 1.0, 2.0, 3.0}), 2.5);
+    PassGraph graph;
+    graph.setSource("camera", 1);
+    graph.setSource("light", 1);
+    std::string current;
+    auto pass = [&](const std::string& name) { return [&current, name] { current = name; }; };
+    graph.addPass("gbuffer", "frame", "", {"camera"}, {"gbuffer"}, {}, pass("gbuffer"));
+    graph.addPass("L0/pcf/shadow_map", "L0", "pcf", {"light"}, {"L0/pcf/depth"}, {}, pass("L0/pcf/shadow_map"));
+    graph.addPass("L0/pcf/filter", "L0", "pcf", {"gbuffer", "L0/pcf/depth"}, {"L0/visibility"}, {}, pass("L0/pcf/filter"));
+    graph.addPass("unused", "L0", "pcf", {"light"}, {"L0/other"}, {}, pass("unused"));
+    // Scripted times per frame (frame 0 is the warm-up the cost leaves out).
+    std::map<std::string, std::vector<double>> ms{{"gbuffer", {9.0, 1.0, 2.0, 3.0}},
+                                                  {"L0/pcf/shadow_map", {50.0, 4.0, 4.0, 3.0}},
+                                                  {"L0/pcf/filter", {70.0, 7.0, 5.0, 6.0}},
+                                                  {"unused", {100.0, 100.0, 100.0, 100.0}}};
+    for (int frame = 0; frame < 4; ++frame) {
+        graph.measureCost({"L0/visibility"}, frame, [&](const std::function<void()>& run) {
+            run();
+            return ms.at(current)[size_t(frame)];
+        });
+    }
+    FrameCost c = frameCost(graph, {"gbuffer", "L0/pcf/shadow_map", "L0/pcf/filter"}, 1);
+    EXPECT_DOUBLE_EQ(c.fixedMs, 2.0);
+    EXPECT_DOUBLE_EQ(c.shadowMs, 4.0 + 6.0);
+    EXPECT_DOUBLE_EQ(c.costMs(), 12.0);
+    EXPECT_DOUBLE_EQ(c.passMs("L0/pcf/filter"), 6.0);
+    EXPECT_DOUBLE_EQ(c.passMs("unused"), 0.0) << "a pass that never ran costs nothing";
+    EXPECT_DOUBLE_EQ(c.passMs("absent"), 0.0);
+    ASSERT_EQ(c.passes.size(), 4u);
+    EXPECT_FALSE(c.passes[0].isShadow());
+    EXPECT_TRUE(c.passes[1].isShadow());
+    EXPECT_FALSE(c.passes[3].needed);
 }
 
 // ==== 4. reuse checks ===============================================================================

@@ -14,5 +14,6 @@ using uint = std::uint32_t;
 #include "light_sampling.glsl"
 #include "shadow_projection.glsl"
 #include "square_occluder.glsl"
+#include "backprojection.glsl"
 #undef SHARED_FN
 }  // namespace shadowlab::shared

@@ -10,20 +10,37 @@
 
 namespace shadowlab {
 
-class InternalWriter {
+// Where Renderer::writeInternals puts what it reads: files (InternalWriter) or memory (the views
+// of viz/ collect the typed internals without writing a file).
+class InternalSink {
+public:
+    virtual ~InternalSink() = default;
+    // `kind` is what index.json says ("image", "pyramid" level, ...); `level` >= 0 for pyramid levels.
+    virtual void image(const std::string& name, const Image& image, const std::string& doc,
+                       const std::string& kind = "image", int level = -1) = 0;
+    virtual void mesh(const std::string& name, const MeshData& mesh, const std::string& kind, const std::string& doc) = 0;
+    virtual void json(const std::string& name, const nlohmann::json& value, const std::string& doc,
+                      const std::string& kind = "json") = 0;
+    virtual void setPrefix(const std::string& prefix) { prefix_ = prefix; }  // "" or "light1/"
+    virtual void setProvenance(const nlohmann::json&) {}
+    virtual void writeIndex() {}
+
+protected:
+    std::string prefix_;
+};
+
+class InternalWriter : public InternalSink {
 public:
     InternalWriter(const std::string& directory, OutputSet& outputs) : directory_(directory), outputs_(outputs) {}
-    // `kind` is what index.json says ("image", "pyramid" level, ...); `level` >= 0 for pyramid levels.
     void image(const std::string& name, const Image& image, const std::string& doc, const std::string& kind = "image",
-               int level = -1);
-    void mesh(const std::string& name, const MeshData& mesh, const std::string& kind, const std::string& doc);
+               int level = -1) override;
+    void mesh(const std::string& name, const MeshData& mesh, const std::string& kind, const std::string& doc) override;
     void json(const std::string& name, const nlohmann::json& value, const std::string& doc,
-              const std::string& kind = "json");
-    void setPrefix(const std::string& prefix) { prefix_ = prefix; }  // "" or "light1/"
+              const std::string& kind = "json") override;
     // Every PFM written after this gets a JSON sidecar (techniques/core/provenance.h) with this
     // record, its "buffer" field naming the internal.
-    void setProvenance(const nlohmann::json& provenance) { provenance_ = provenance; }
-    void writeIndex();
+    void setProvenance(const nlohmann::json& provenance) override { provenance_ = provenance; }
+    void writeIndex() override;
     const nlohmann::json& entries() const { return entries_; }
 
 private:
@@ -31,7 +48,6 @@ private:
     void writeFloatImage(const std::string& file, const Image& image, const std::string& name);
     std::string directory_;
     OutputSet& outputs_;
-    std::string prefix_;
     nlohmann::json provenance_;
     nlohmann::json entries_ = nlohmann::json::array();
 };

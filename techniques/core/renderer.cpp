@@ -45,13 +45,6 @@ bool isFrameResource(const std::string& name) {
     return name == "gbuffer" || name == "camera" || name == "ambient" || name.rfind("scene.", 0) == 0;
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 }  // namespace
 
 Renderer::Renderer(const Scene& scene, const RenderOptions& options)
@@ -552,7 +545,7 @@ std::set<std::string> Renderer::internalRequests(bool withPixelRecords) const {
     return out;
 }
 
-void Renderer::writeInternals(InternalWriter& out, std::optional<glm::ivec2> pixel) {
+void Renderer::writeInternals(InternalSink& out, std::optional<glm::ivec2> pixel) {
     nlohmann::json pixelData;
     for (auto& lp : lights_) {
         LightState& l = lp->state;
@@ -611,76 +604,6 @@ void Renderer::writeInternals(InternalWriter& out, std::optional<glm::ivec2> pix
         out.json("pixel", pixelData, "per-pixel records of the picked pixel (--pixel x,y; y counted from the top)", "record");
     }
     out.writeIndex();
-}
-
-// ---- stats ----------------------------------------------------------------------------------------------
-bool Renderer::costMeasuredSince(int frame) const {
-    std::vector<std::string> needed = graph_.neededPasses(lastRequested_);
-    for (const PassRecord& r : graph_.records()) {
-        if (std::find(needed.begin(), needed.end(), r.name) == needed.end()) continue;
-        bool measured = std::any_of(r.times.begin(), r.times.end(), [&](const auto& t) { return t.first >= frame; });
-        if (!measured) return false;
-    }
-    return true;
-}
-
-nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom) const {
-    nlohmann::json j;
-    j["scene"] = scene_.name;
-    j["resolution"] = {frame_.width, frame_.height};
-    j["clock"] = clockName();
-    j["reuse"] = options_.reuse;
-    j["warmup_frames"] = warmupFrames;
-    j["frames"] = frameMs.size();
-    // frame_ms: the frame as run (with reuse: a static scene costs almost nothing after its first
-    // frame). cost_ms: what a frame costs when every needed pass runs (the median of each needed
-    // pass's runs), split into shadow_ms (the techniques' passes, all lights: what speed claims
-    // compare) and fixed_ms (G-buffer, shading: the same for every technique).
-    j["frame_ms"] = median(frameMs);
-    j["frame_ms_all"] = frameMs;
-    std::vector<std::string> needed = lastRequested_.empty() ? std::vector<std::string>{} : graph_.neededPasses(lastRequested_);
-    double shadow = 0.0, fixed = 0.0;
-    j["passes"] = nlohmann::json::array();
-    for (const PassRecord& r : graph_.records()) {
-        bool isNeeded = std::find(needed.begin(), needed.end(), r.name) != needed.end();
-        double ms = r.medianMs(costFrom);
-        if (isNeeded) (r.technique.empty() ? fixed : shadow) += ms;
-        j["passes"].push_back({{"name", r.name},
-                               {"group", r.group},
-                               {"technique", r.technique},
-                               {"cost", r.technique.empty() ? "fixed" : "shadow"},
-                               {"needed", isNeeded},
-                               {"status", r.status},
-                               {"reason", r.reason},
-                               {"runs", r.runs},
-                               {"reuses", r.reuses},
-                               {"not_needed", r.notNeeded},
-                               {"median_ms", ms},
-                               {"history", r.history}});
-    }
-    j["cost_ms"] = shadow + fixed;
-    j["shadow_ms"] = shadow;
-    j["fixed_ms"] = fixed;
-    j["lights"] = nlohmann::json::array();
-    for (const auto& lp : lights_) {
-        const LightState& l = lp->state;
-        nlohmann::json lj{{"index", l.index},
-                          {"name", l.light.name},
-                          {"shape", lightShapeName(l.light.shape)},
-                          {"size", l.light.size},
-                          {"casts_shadows", l.light.castsShadows},
-                          {"technique_requested", l.requested->id},
-                          {"technique", l.light.castsShadows ? l.desc->id : "none (casts no shadows)"}};
-        lj["parameters"] = l.params.toJson(*l.desc);
-        nlohmann::json inapplicable = nlohmann::json::object();
-        for (const auto& [key, reason] : l.params.inapplicable(*l.desc)) inapplicable[key] = reason;
-        if (!inapplicable.empty()) lj["parameters_not_applied"] = inapplicable;
-        j["lights"].push_back(lj);
-    }
-    j["resources"] = pool_.describe();
-    j["memory_bytes"] = pool_.totalBytes() + gpu_->bytes();
-    j["scene_bytes"] = gpu_->bytes();
-    return j;
 }
 
 }  // namespace shadowlab

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "frame.h"
+#include "frame_stats.h"
 #include "gl_util.h"
 #include "image.h"
 #include "internals.h"
@@ -64,9 +65,12 @@ public:
 
     // Graph outputs the applicable internals of every light read (request them before writing).
     std::set<std::string> internalRequests(bool withPixelRecords) const;
-    void writeInternals(InternalWriter& out, std::optional<glm::ivec2> pixel);
+    void writeInternals(InternalSink& out, std::optional<glm::ivec2> pixel);
     // frameMs: the frames as run; costFrom: the first frame whose pass times count for cost_ms.
+    // (Defined in frame_stats.cpp.)
     nlohmann::json stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom = 1) const;
+    // shadow_ms / fixed_ms / per pass of the last request's needed passes (frame_stats.h).
+    FrameCost cost(int costFrom = 1) const;
     // Passes needed by the last request with no run at a frame >= `frame` (their cost is unknown).
     bool costMeasuredSince(int frame) const;
     // Re-runs every pass the last request needed and returns the resources whose contents changed

@@ -2,6 +2,8 @@
 // Pass 1 renders the casters' light-view depth; pass 2 compares each receiver's depth with it.
 #include "hard.h"
 
+#include "shared/shared.h"
+
 namespace shadowlab {
 
 namespace {
@@ -54,7 +56,7 @@ PassDesc depthTestPass(bool pcf) {
     return p;
 }
 
-InternalDesc shadowMapPixelRecord() {
+InternalDesc shadowMapPixelRecord(bool pcf) {
     InternalDesc r;
     r.name = "pixel";
     r.kind = InternalDesc::Kind::Record;
@@ -64,9 +66,13 @@ InternalDesc shadowMapPixelRecord() {
                 {"shadow_map_texel", "the texel it falls in (x, y from the bottom)"},
                 {"receiver_depth", "the receiver's light-view depth z (world units)"},
                 {"stored_depth", "the depth stored in that texel (null: no caster)"},
+                {"texels_read", "rectangles [x0, y0, x1, y1] (inclusive, from the bottom) of the texels the depth "
+                                "tests fetched: the receiver's texel, or the n x n kernel clamped to the map (pcf); "
+                                "empty outside the light's frustum (lit without a test)"},
                 {"visibility", "this light's visibility at the pixel"}};
     r.reads = {"gbuffer", "light", "shadow_map", "shadow_map_second_depth", "param:second_depth", "visibility"};
-    r.record = [](PassContext& ctx, glm::ivec2 pixel) {
+    if (pcf) r.reads.push_back("param:pcf_kernel");
+    r.record = [pcf](PassContext& ctx, glm::ivec2 pixel) {
         int row = ctx.height() - 1 - pixel.y;
         glm::vec4 position(0.0f);
         glGetTextureSubImage(ctx.gbuffer().position->id(), 0, pixel.x, row, 0, 1, 1, 1, GL_RGBA, GL_FLOAT,
@@ -89,6 +95,17 @@ InternalDesc shadowMapPixelRecord() {
         j["shadow_map_texel"] = {t.x, t.y};
         j["receiver_depth"] = -v.z;
         j["stored_depth"] = stored > 1e30f ? nlohmann::json(nullptr) : nlohmann::json(stored);
+        // What shaders/common/shadow_lookup.glsl fetches: texel floor(uv * size) + offset, clamped, for
+        // offsets in [-r, r]^2 (r = n / 2 with pcf, 0 otherwise), and nothing outside the frustum.
+        int radius = pcf ? ctx.paramInt("pcf_kernel") / 2 : 0;
+        bool inside = shared::shadowMapCoord(view.viewFromWorld, view.clipFromView, glm::vec3(position)).w != 0.0f;
+        j["texels_read"] = nlohmann::json::array();
+        if (inside) {
+            glm::ivec2 base(glm::floor(uv * float(size)));  // before the clamp, as the shader adds the offset
+            glm::ivec2 lo = glm::clamp(base - radius, glm::ivec2(0), glm::ivec2(size - 1));
+            glm::ivec2 hi = glm::clamp(base + radius, glm::ivec2(0), glm::ivec2(size - 1));
+            j["texels_read"].push_back({lo.x, lo.y, hi.x, hi.y});
+        }
         j["visibility"] = ctx.pixelValue("visibility", pixel);
         return j;
     };

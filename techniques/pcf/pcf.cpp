@@ -22,7 +22,7 @@ const TechniqueDesc& pcfTechnique() {
         d.params.push_back(kernel);
         d.passes = {shadowMapPass(), depthTestPass(true)};
         d.internals = shadowMapInternals();
-        d.internals.push_back(shadowMapPixelRecord());
+        d.internals.push_back(shadowMapPixelRecord(true));
         return d;
     }();
     return desc;

@@ -1,0 +1,58 @@
+// guennebaud2007 sec. 3: the kernel ("search area" of GBP06) and the classification of each pixel.
+//  1. first estimate from the global min depth z_min, the top HSM level (eq. 1);
+//  2. refinement: the local min z'_min over the kernel read at level floor(log2 w_k), where the
+//     kernel is "just below one pixel", gives a tighter w_k (eq. 1 again), until it stops shrinking;
+//  3. the kernel's depth bounds (HSM min, max) against z_p: lit, umbra or penumbra.
+// The C++ mirror for --pixel is techniques/hsm/hsm.cpp: computeKernel.
+#include "receiver.glsl"
+uniform sampler2D shadowMap;    // HSM level 0: light-view depth z (R32F)
+uniform sampler2D hsm;          // HSM levels 1, 2, ... as mip levels 0, 1, ...: (min, max) depth per texel
+uniform int hsmTopLevel;        // the 1x1 HSM level
+uniform float lightWidthWorld;  // w_l: the square's width, the disk's diameter
+layout(location = 0) out float kernelSize;        // converged w_k, texels (0: lit by the top level)
+layout(location = 1) out float kernelIterations;  // refinement steps taken
+layout(location = 2) out float classification;    // BP_CLASS_*: 0 umbra, 0.5 penumbra, 1 lit
+
+const int kMaxRefinements = 32;  // w_k shrinks every step; a 8192^2 map converges in far fewer
+
+// (min, max) of HSM level `level` at texel t.
+vec2 hsmTexel(int level, ivec2 t) {
+    return level == 0 ? vec2(texelFetch(shadowMap, t, 0).r) : texelFetch(hsm, t, level - 1).rg;
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    kernelSize = 0.0;
+    kernelIterations = 0.0;
+    classification = BP_CLASS_LIT;
+    if (isBackground(pixel)) return;
+    BpReceiver r = prepareReceiver(pixel);
+    if (r.inside == 0.0) return;
+    int size = int(shadowMapSize);
+    float zp = r.position.z;
+    float zMin = hsmTexel(hsmTopLevel, ivec2(0)).x;
+    if (zMin >= zp - r.bias) return;  // nothing in the whole map is in front of p
+    // Eq. 1; a kernel wider than twice the map covers it whatever its centre.
+    float w = min(hsmKernelTexels(lightWidthWorld, shadowMapSize, lightTanHalfFov, zMin, zp), 2.0 * shadowMapSize);
+    vec2 bounds = vec2(zMin, 3.4e38);
+    float planeMin = 0.0;
+    for (int step = 0; step < kMaxRefinements; ++step) {
+        int level = hsmRefinementLevel(w, hsmTopLevel);
+        int levelSize = hsmLevelSize(level, size);
+        ivec4 rangeL = levelTexelRange(kernelTexelRange(r.centre, w, size), level, levelSize);
+        bounds = vec2(3.4e38, -3.4e38);
+        for (int y = rangeL.y; y <= rangeL.w; ++y)
+            for (int x = rangeL.x; x <= rangeL.z; ++x) {
+                vec2 t = hsmTexel(level, ivec2(x, y));
+                bounds = vec2(min(bounds.x, t.x), max(bounds.y, t.y));
+            }
+        planeMin = regionPlaneDepthMin(r, levelRegionTexels(rangeL, level, levelSize, size), shadowMapSize, lightTanHalfFov);
+        kernelIterations += 1.0;
+        if (bounds.x >= zp - r.bias) break;  // lit: classified below
+        float refined = hsmKernelTexels(lightWidthWorld, shadowMapSize, lightTanHalfFov, bounds.x, zp);
+        if (refined >= w) break;  // converged
+        w = refined;
+    }
+    kernelSize = w;
+    classification = bpClassify(r, bounds, planeMin);
+}

@@ -1,0 +1,99 @@
+// The part of soft shadow mapping by back-projection that `ssm-gbp06` and `ssm-contour` share
+// (guennebaud2007 section 3, after GBP06): the hierarchical shadow map (HSM, a min/max depth
+// pyramid of the shadow map), the kernel size per pixel (eq. 1, then iterative refinement) and the
+// lit / umbra / penumbra classification; and the CPU mirror of all of it that the per-pixel records
+// (--pixel) run on the same shared functions as the shaders (shaders/shared/backprojection.glsl).
+#pragma once
+#include <nlohmann/json.hpp>
+
+#include "shadow_map.h"
+#include "shared/shared.h"
+
+namespace shadowlab {
+
+// Parameters both techniques add to shadowMapParams(): `max_kernel`.
+std::vector<ParamDesc> backprojectionParams();
+
+// Pass "hsm": creates the RG32F pyramid "hsm" from the shadow map, on the GPU: HSM levels 1, 2, ...
+// down to 1x1 as its mip levels 0, 1, ... (HSM level 0 is the shadow map itself).
+PassDesc hsmPass();
+// Pass "kernel": creates "kernel_size", "kernel_iterations" and "classification" (frame size).
+PassDesc kernelPass();
+// Internals of both: the shadow map, every HSM level (min, max), kernel size, iterations, classes.
+std::vector<InternalDesc> backprojectionInternals();
+// What a visibility pass of either technique reads besides its own parameters.
+std::vector<std::string> backprojectionVisibilityReads();
+
+// The shared light-shape code of the shaders (BP_LIGHT_SQUARE, BP_LIGHT_DISK for disk and sphere)
+// and the unit of light coordinates (w_l / 2, or the radius).
+int bpLightShape(const Light& light);
+float bpLightHalfSize(const Light& light);
+// Uniforms of shaders/backprojection/receiver.glsl, and the G-buffer on units 0-2.
+void setReceiverUniforms(PassContext& ctx, const ShaderProgram& program, int smSize);
+
+// ---- the CPU mirror (per-pixel records) ----------------------------------------------------------
+
+// The GPU resources a record needs, read back once: the depth map and every HSM level, plus the
+// light and parameters, so the shared functions can run on the CPU.
+struct BackprojectionCpu {
+    int size = 0;  // r
+    int topLevel = 0;
+    LightView view;
+    glm::vec3 lightPosition{0.0f};
+    int shape = shared::BP_LIGHT_SQUARE;
+    float lightWidth = 0.0f;     // bounding width in world units (eq. 1's w_l)
+    float lightHalfSize = 0.0f;  // unit of light coordinates
+    float biasConst = 0.0f, biasSlope = 0.0f, maxKernel = 0.0f;
+    std::vector<Image> hsm;  // HSM level k + 1: RG, row 0 at the top (readTextureLevel); level 0 is `depth`
+    Image depth;             // the shadow map the depth tests read, row 0 at the top
+
+    static BackprojectionCpu read(PassContext& ctx);
+    // Texel (x, y) counted from the bottom, as texelFetch: the no-caster marker outside the map.
+    float depthAt(glm::ivec2 t) const;
+    glm::vec2 hsmAt(int level, glm::ivec2 t) const;  // HSM level `level` (0: the map, min = max)
+    int levelSize(int level) const;
+    shared::BpReceiver receiver(const glm::vec3& worldPosition, const glm::vec3& worldNormal) const;
+    bool occludes(const shared::BpReceiver& r, glm::ivec2 t, float z) const;
+};
+
+// One refinement step of the kernel: the HSM level read, its texels (x0, y0, x1, y1) and their
+// (min, max) depth, and the kernel width that step's min gave.
+struct KernelStep {
+    int level = 0;
+    glm::ivec4 texels{0};
+    glm::vec2 bounds{0.0f};
+    float refinedTexels = 0.0f;
+};
+struct KernelResult {
+    float texels = 0.0f;  // converged w_k (what kernel.frag writes)
+    int iterations = 0;
+    float classification = shared::BP_CLASS_LIT;
+    float globalMin = 0.0f;  // the top level's min (first estimate)
+    std::vector<KernelStep> steps;
+};
+// The same steps as shaders/backprojection/kernel.frag.
+KernelResult computeKernel(const BackprojectionCpu& cpu, const shared::BpReceiver& r);
+
+// The start of both techniques' per-pixel records: the receiver, the kernel with its refinement
+// steps, the classification and the light. `done` is true when nothing more is integrated
+// (background, outside the light's frustum, lit or umbra); then `record` is complete apart from
+// the technique's list and the totals finishRecord() adds.
+struct PixelRecordStart {
+    bool done = false;
+    nlohmann::json record;
+    BackprojectionCpu cpu;
+    shared::BpReceiver receiver{};
+    KernelResult kernel;
+    glm::ivec4 range{0};  // level-0 texels the visibility loop walks (kernel clamped by max_kernel)
+    float initialArea = 0.0f;
+};
+PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel);
+// Adds "initial_area", "occluded_area" = initial + sum of the items' areas, "visibility_recomputed"
+// and the image's "visibility".
+void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& start, float itemsArea);
+// The record's fields shared by both techniques (each adds its list: "samples" or "edges").
+std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema();
+// The resources a record reads.
+std::vector<std::string> backprojectionRecordReads();
+
+}  // namespace shadowlab

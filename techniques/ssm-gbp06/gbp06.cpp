@@ -1,0 +1,142 @@
+// `ssm-gbp06`: soft shadow mapping by back-projection of every occluding sample (Guennebaud, Barthe
+// and Paulin 2006), as guennebaud2007 section 3 summarises it: the HSM, the kernel and the
+// classification (techniques/hsm/), then each occluding sample in the kernel back-projected as a
+// quad onto the light, clipped to it, gaps filled by extending quads to their neighbours, areas
+// summed. The overlaps are not corrected: the shadow is overestimated (guennebaud2007 Fig. 1, 11).
+#include "hsm/hsm.h"
+
+namespace shadowlab {
+
+using namespace shared;
+
+namespace {
+
+class Gbp06VisibilityPass : public Pass {
+public:
+    void execute(PassContext& ctx) override {
+        Texture& visibility = ctx.texture("visibility");
+        if (fboTexture_ != visibility.id()) {
+            fbo_ = Framebuffer({&visibility}, nullptr);
+            fboTexture_ = visibility.id();
+        }
+        const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "backprojection/gbp06.frag");
+        program.use();
+        const Texture& map = ctx.texture(shadowTestMap(ctx));
+        setReceiverUniforms(ctx, program, map.width());
+        glBindTextureUnit(3, map.id());
+        program.set("shadowMap", 3);
+        glBindTextureUnit(4, ctx.texture("kernel_size").id());
+        program.set("kernelSize", 4);
+        glBindTextureUnit(5, ctx.texture("classification").id());
+        program.set("classification", 5);
+        program.set("lightShape", bpLightShape(ctx.light()));
+        program.set("lightHalfSize", bpLightHalfSize(ctx.light()));
+        program.set("maxKernelTexels", float(ctx.param("max_kernel")));
+        fbo_.bind(ctx.width(), ctx.height());
+        drawFullscreenTriangle();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+private:
+    Framebuffer fbo_;
+    GLuint fboTexture_ = 0;
+};
+
+// The sample quad of texel t at depth z back-projected from r, with GBP06's gap filling: the same
+// steps as shaders/backprojection/gbp06.frag. Returns (x0, y0, x1, y1) in light coordinates and
+// whether the right and top sides were extended.
+struct SampleQuad {
+    glm::vec4 rect;
+    bool extendedRight = false, extendedTop = false;
+};
+SampleQuad sampleQuad(const BackprojectionCpu& c, const BpReceiver& r, glm::ivec2 t, float z) {
+    const float size = float(c.size), tanHalf = c.view.tanHalfFov;
+    glm::vec2 lo = backprojectToLight(r.position, glm::vec2(t), z, size, tanHalf, c.lightHalfSize);
+    glm::vec2 hi = backprojectToLight(r.position, glm::vec2(t + 1), z, size, tanHalf, c.lightHalfSize);
+    SampleQuad q;
+    glm::ivec2 right = t + glm::ivec2(1, 0), top = t + glm::ivec2(0, 1);
+    float zRight = c.depthAt(right);
+    if (c.occludes(r, right, zRight)) {
+        float x = backprojectToLight(r.position, glm::vec2(right), zRight, size, tanHalf, c.lightHalfSize).x;
+        q.extendedRight = x > hi.x;
+        hi.x = std::max(hi.x, x);
+    }
+    float zTop = c.depthAt(top);
+    if (c.occludes(r, top, zTop)) {
+        float y = backprojectToLight(r.position, glm::vec2(top), zTop, size, tanHalf, c.lightHalfSize).y;
+        q.extendedTop = y > hi.y;
+        hi.y = std::max(hi.y, y);
+    }
+    q.rect = glm::vec4(lo.x, lo.y, hi.x, hi.y);
+    return q;
+}
+
+InternalDesc gbp06PixelRecord() {
+    InternalDesc r;
+    r.name = "pixel";
+    r.kind = InternalDesc::Kind::Record;
+    r.doc = "the picked pixel's kernel and back-projected sample quads (--pixel x,y)";
+    r.schema = backprojectionRecordSchema();
+    r.schema.push_back({"samples", "occluding samples whose quad reaches the light: texel [x, y], depth, quad "
+                                   "[x0, y0, x1, y1] in light coordinates after gap filling, extended_right, "
+                                   "extended_top, area (occluded light area, light coordinates)"});
+    r.reads = backprojectionRecordReads();
+    r.record = [](PassContext& ctx, glm::ivec2 pixel) {
+        PixelRecordStart s = startPixelRecord(ctx, pixel);
+        float sum = 0.0f;
+        nlohmann::json samples = nlohmann::json::array();
+        if (!s.done) {
+            const BackprojectionCpu& c = s.cpu;
+            for (int y = s.range.y; y <= s.range.w; ++y)
+                for (int x = s.range.x; x <= s.range.z; ++x) {
+                    float z = c.depthAt({x, y});
+                    if (!c.occludes(s.receiver, {x, y}, z)) continue;
+                    SampleQuad q = sampleQuad(c, s.receiver, {x, y}, z);
+                    float area = rectOccludedArea(c.shape, q.rect);
+                    sum += area;
+                    if (area == 0.0f) continue;
+                    samples.push_back({{"texel", {x, y}},
+                                       {"depth", z},
+                                       {"quad", {q.rect.x, q.rect.y, q.rect.z, q.rect.w}},
+                                       {"extended_right", q.extendedRight},
+                                       {"extended_top", q.extendedTop},
+                                       {"area", area}});
+                }
+        }
+        if (!s.record.contains("background")) s.record["samples"] = samples;
+        finishPixelRecord(ctx, pixel, s, sum);
+        return s.record;
+    };
+    return r;
+}
+
+}  // namespace
+
+const TechniqueDesc& ssmGbp06Technique() {
+    static const TechniqueDesc desc = [] {
+        TechniqueDesc d;
+        d.id = "ssm-gbp06";
+        d.name = "Soft shadow mapping by back-projection (GBP06)";
+        d.citation = "Guennebaud, Barthe, Paulin 2006, Real-time soft shadow mapping by backprojection; as summarised "
+                     "in guennebaud2007 sec. 3 (eq. 1)";
+        d.summary = "every occluding shadow-map sample back-projected as a small quad onto the light and its covered "
+                    "area summed: gaps filled, overlaps not, so shadows come out too dark";
+        d.soft = true;
+        d.params = backprojectionParams();
+        PassDesc visibility;
+        visibility.name = "visibility";
+        visibility.doc = "occluding samples of the kernel back-projected as quads, gap-filled, clipped to the light, "
+                         "areas summed (guennebaud2007 sec. 3)";
+        visibility.reads = backprojectionVisibilityReads();
+        visibility.creates = {visibilityResource()};
+        visibility.soft = true;
+        visibility.create = [] { return std::make_unique<Gbp06VisibilityPass>(); };
+        d.passes = {shadowMapPass(), hsmPass(), kernelPass(), visibility};
+        d.internals = backprojectionInternals();
+        d.internals.push_back(gbp06PixelRecord());
+        return d;
+    }();
+    return desc;
+}
+
+}  // namespace shadowlab

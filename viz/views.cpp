@@ -1,0 +1,473 @@
+#include "views.h"
+
+#include <vtkActor.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkFloatArray.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkRendererCollection.h>
+#include <vtkImageActor.h>
+#include <vtkImageData.h>
+#include <vtkImageMapToColors.h>
+#include <vtkImageMapper3D.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
+#include <vtkTextActor.h>
+#include <vtkTextProperty.h>
+#include <vtkXMLImageDataWriter.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <cstdio>
+
+#include "error.h"
+#include "gl_loader.h"
+#include "view_common.h"
+
+namespace shadowlab {
+
+// ---- the registry: one line per view; the view's own file defines the function ---------------------
+#define SHADOWLAB_VIEWS(X) X(scene3dView) X(shadowMapView) X(internalView) X(errorView)
+
+#define SHADOWLAB_DECLARE_VIEW(fn) const ViewDesc& fn();
+SHADOWLAB_VIEWS(SHADOWLAB_DECLARE_VIEW)
+#undef SHADOWLAB_DECLARE_VIEW
+
+const std::vector<const ViewDesc*>& allViews() {
+#define SHADOWLAB_LIST_VIEW(fn) &fn(),
+    static const std::vector<const ViewDesc*> views = {SHADOWLAB_VIEWS(SHADOWLAB_LIST_VIEW)};
+#undef SHADOWLAB_LIST_VIEW
+    return views;
+}
+
+const ViewDesc* findView(const std::string& name) {
+    for (const ViewDesc* v : allViews())
+        if (v->info.name == name) return v;
+    return nullptr;
+}
+
+std::vector<ViewInfo> listViews() {
+    std::vector<ViewInfo> out;
+    for (const ViewDesc* v : allViews()) out.push_back(v->info);
+    return out;
+}
+
+static const ViewDesc& requireView(const std::string& name) {
+    if (const ViewDesc* v = findView(name)) return *v;
+    std::string names;
+    for (const ViewDesc* v : allViews()) names += (names.empty() ? "" : ", ") + v->info.name;
+    throw InputError("--view: unknown view '" + name + "' (expected one of: " + names + ")");
+}
+
+// ---- collected internals --------------------------------------------------------------------------
+void InternalCollector::image(const std::string& name, const Image& img, const std::string& doc,
+                              const std::string& kind, int level) {
+    CollectedInternal& e = entries[prefix_ + name];
+    e.name = name;
+    e.kind = kind;
+    if (level <= 0) e.doc = doc;
+    size_t index = size_t(std::max(level, 0));
+    if (e.levels.size() <= index) e.levels.resize(index + 1);
+    e.levels[index] = img;
+}
+
+void InternalCollector::mesh(const std::string& name, const MeshData& mesh, const std::string& kind,
+                             const std::string& doc) {
+    CollectedInternal& e = entries[prefix_ + name];
+    e.name = name;
+    e.kind = kind;
+    e.doc = doc;
+    e.mesh = mesh;
+}
+
+void InternalCollector::json(const std::string& name, const nlohmann::json& value, const std::string& doc,
+                             const std::string& kind) {
+    CollectedInternal& e = entries[prefix_ + name];
+    e.name = name;
+    e.kind = kind;
+    e.doc = doc;
+    e.json = value;
+}
+
+// ---- the context ------------------------------------------------------------------------------------
+ViewContext::ViewContext(Renderer& r, const Scene& s, const ViewRequest& q, VtkOffscreen& o)
+    : renderer(r), scene(s), request(q), out(o) {}
+
+const LightState& ViewContext::light() const { return *renderer.lights().at(size_t(request.light)); }
+
+static std::string lightPrefix(int light) { return light == 0 ? "" : "light" + std::to_string(light) + "/"; }
+
+const CollectedInternal* ViewContext::internal(const std::string& name) const {
+    auto it = collected_.entries.find(lightPrefix(request.light) + name);
+    return it == collected_.entries.end() ? nullptr : &it->second;
+}
+
+nlohmann::json ViewContext::pixelData() const {
+    auto it = collected_.entries.find("pixel");
+    return it == collected_.entries.end() ? nlohmann::json() : it->second.json;
+}
+
+nlohmann::json ViewContext::pixelRecord() const {
+    nlohmann::json all = pixelData();
+    if (all.is_null() || !all.contains("lights")) return nlohmann::json();
+    for (const auto& l : all["lights"])
+        if (l.value("light", -1) == request.light) return l;
+    return nlohmann::json();
+}
+
+std::string ViewContext::exportTarget(const std::string& path) const {
+    return request.outputs ? request.outputs->stage(path) : path;
+}
+
+// ---- FunctionSource -----------------------------------------------------------------------------------
+vtkStandardNewMacro(FunctionSource);
+
+FunctionSource::FunctionSource() { SetNumberOfInputPorts(0); }
+
+void FunctionSource::SetGenerator(std::function<void(vtkPolyData*)> generator) {
+    generator_ = std::move(generator);
+    Modified();
+}
+
+int FunctionSource::RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputs) {
+    vtkPolyData* output = vtkPolyData::GetData(outputs);
+    if (generator_) generator_(output);
+    return 1;
+}
+
+// ---- images -------------------------------------------------------------------------------------------
+vtkSmartPointer<vtkImageData> toImageData(const Image& image, const std::vector<std::string>& channelNames) {
+    auto data = vtkSmartPointer<vtkImageData>::New();
+    data->SetDimensions(image.width, image.height, 1);
+    data->SetOrigin(0.0, 0.0, 0.0);
+    data->SetSpacing(1.0, 1.0, 1.0);
+    for (int c = 0; c < image.channels; ++c) {
+        vtkNew<vtkFloatArray> array;
+        array->SetName(c < int(channelNames.size()) ? channelNames[size_t(c)].c_str() : ("c" + std::to_string(c)).c_str());
+        array->SetNumberOfTuples(vtkIdType(image.pixelCount()));
+        for (int y = 0; y < image.height; ++y) {
+            int row = image.height - 1 - y;  // VTK's j counts from the bottom
+            for (int x = 0; x < image.width; ++x) {
+                float v = image.at(x, y, c);
+                array->SetValue(vtkIdType(row) * image.width + x, std::isfinite(v) ? v : NAN);
+            }
+        }
+        data->GetPointData()->AddArray(array);
+        if (c == 0) data->GetPointData()->SetActiveScalars(array->GetName());
+    }
+    return data;
+}
+
+std::pair<float, float> finiteRange(const Image& image, int c) {
+    float lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < image.pixelCount(); ++i) {
+        float v = image.data[i * size_t(image.channels) + size_t(c)];
+        if (!std::isfinite(v)) continue;
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+    }
+    return {lo, hi};
+}
+
+std::string formatNumber(double v, int digits) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
+    return buffer;
+}
+
+// Viridis at 8 stops (matplotlib's, sRGB): dark blue -> green -> yellow, ordered in lightness.
+static const float kViridis[8][3] = {{0.267f, 0.005f, 0.329f}, {0.275f, 0.194f, 0.496f}, {0.213f, 0.359f, 0.552f},
+                                     {0.153f, 0.498f, 0.558f}, {0.122f, 0.632f, 0.531f}, {0.290f, 0.762f, 0.428f},
+                                     {0.622f, 0.854f, 0.223f}, {0.993f, 0.906f, 0.144f}};
+
+// A range to show: a constant image gets a small range around its value (the bar still reads it).
+static void widenRange(double& lo, double& hi) {
+    if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0.0, hi = 1.0;
+    const double minWidth = 1e-2 * std::max(1.0, std::max(std::abs(lo), std::abs(hi)));
+    if (hi - lo < minWidth) {
+        const double mid = 0.5 * (lo + hi);
+        lo = mid - minWidth;
+        hi = mid + minWidth;
+    }
+}
+
+vtkSmartPointer<vtkLookupTable> sequentialLut(double lo, double hi, glm::vec3 nanRgb) {
+    widenRange(lo, hi);
+    auto lut = vtkSmartPointer<vtkLookupTable>::New();
+    lut->SetNumberOfTableValues(256);
+    lut->SetTableRange(lo, hi);
+    for (int i = 0; i < 256; ++i) {
+        float t = float(i) / 255.0f * 7.0f;
+        int k = std::min(int(t), 6);
+        float f = t - float(k);
+        double rgb[3];
+        for (int c = 0; c < 3; ++c) rgb[c] = kViridis[k][c] * (1.0f - f) + kViridis[k + 1][c] * f;
+        lut->SetTableValue(i, rgb[0], rgb[1], rgb[2], 1.0);
+    }
+    lut->SetNanColor(nanRgb.r, nanRgb.g, nanRgb.b, 1.0);
+    lut->SetUseBelowRangeColor(false);
+    lut->SetUseAboveRangeColor(false);
+    return lut;
+}
+
+vtkSmartPointer<vtkLookupTable> divergingLut(double maxAbs) {
+    if (!(maxAbs > 0.0)) maxAbs = 1e-6;
+    auto lut = vtkSmartPointer<vtkLookupTable>::New();
+    lut->SetNumberOfTableValues(256);
+    lut->SetTableRange(-maxAbs, maxAbs);
+    // Blue (0.23, 0.30, 0.75) -> white -> red (0.71, 0.02, 0.15), Moreland's cool-warm end points.
+    const glm::vec3 blue(0.230f, 0.299f, 0.754f), white(0.97f), red(0.706f, 0.016f, 0.150f);
+    for (int i = 0; i < 256; ++i) {
+        float t = float(i) / 255.0f * 2.0f - 1.0f;
+        glm::vec3 c = t < 0.0f ? glm::mix(white, blue, -t) : glm::mix(white, red, t);
+        lut->SetTableValue(i, c.r, c.g, c.b, 1.0);
+    }
+    lut->SetNanColor(0.35, 0.35, 0.35, 1.0);
+    return lut;
+}
+
+vtkSmartPointer<vtkScalarBarActor> colourBar(vtkLookupTable* lut, const std::string& title) {
+    auto bar = vtkSmartPointer<vtkScalarBarActor>::New();
+    bar->SetLookupTable(lut);
+    bar->SetTitle(title.c_str());
+    bar->SetNumberOfLabels(5);
+    bar->SetLabelFormat("%-#6.3g");
+    bar->SetOrientationToVertical();
+    bar->SetPosition(0.86, 0.12);
+    bar->SetPosition2(0.13, 0.78);
+    bar->SetBarRatio(0.3);
+    bar->UnconstrainedFontSizeOn();
+    bar->GetTitleTextProperty()->SetFontSize(13);
+    bar->GetTitleTextProperty()->SetColor(0.95, 0.95, 0.95);
+    bar->GetTitleTextProperty()->ItalicOff();
+    bar->GetTitleTextProperty()->ShadowOff();
+    bar->GetLabelTextProperty()->SetFontSize(12);
+    bar->GetLabelTextProperty()->SetColor(0.95, 0.95, 0.95);
+    bar->GetLabelTextProperty()->ItalicOff();
+    bar->GetLabelTextProperty()->ShadowOff();
+    bar->SetDrawNanAnnotation(lut->GetNanColor()[0] >= 0.0);
+    bar->SetNanAnnotation("none");
+    return bar;
+}
+
+static vtkSmartPointer<vtkTextActor> textActor(const std::string& text, int size) {
+    auto actor = vtkSmartPointer<vtkTextActor>::New();
+    actor->SetInput(text.c_str());
+    actor->GetTextProperty()->SetFontSize(size);
+    actor->GetTextProperty()->SetColor(0.95, 0.95, 0.95);
+    actor->GetTextProperty()->SetFontFamilyToArial();
+    return actor;
+}
+
+// Caption font: 1/36 of the frame height, smaller when the longest line would not fit the width
+// (Arial averages about 0.55 em per character).
+static int captionFont(const std::string& text, int frameWidth, int frameHeight) {
+    size_t longest = 0, start = 0;
+    while (start <= text.size()) {
+        size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        longest = std::max(longest, end - start);
+        start = end + 1;
+    }
+    int byWidth = longest ? int((frameWidth - 16) / (0.62 * double(longest))) : 100;  // Courier: 0.6 em
+    return std::max(8, std::min(frameHeight / 36, byWidth));
+}
+
+vtkSmartPointer<vtkTextActor> captionActor(const std::string& text, int frameHeight) {
+    auto actor = textActor(text, std::max(10, frameHeight / 36));
+    actor->SetPosition(8, 6);
+    return actor;
+}
+
+vtkSmartPointer<vtkTextActor> titleActor(const std::string& text, int frameHeight) {
+    auto actor = textActor(text, std::max(11, frameHeight / 30));
+    actor->GetTextProperty()->SetVerticalJustificationToTop();
+    actor->GetTextProperty()->BoldOn();
+    actor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    actor->SetPosition(0.02, 0.97);
+    return actor;
+}
+
+double addCaptionStrip(VtkOffscreen& out, const std::string& caption, bool monospace) {
+    const int lines = 1 + int(std::count(caption.begin(), caption.end(), '\n'));
+    const int font = captionFont(caption, out.width(), out.height());
+    const double strip = std::min(0.5, (lines * font * 1.3 + 10.0) / out.height());
+    vtkRenderer* r = out.addRenderer();
+    r->SetViewport(0.0, 0.0, 1.0, strip);
+    r->SetBackground(0.07, 0.07, 0.08);
+    auto text = captionActor(caption, out.height());
+    text->GetTextProperty()->SetFontSize(font);
+    if (monospace) text->GetTextProperty()->SetFontFamilyToCourier();  // columns of figures line up
+    r->AddActor2D(text);
+    return strip;
+}
+
+void fitImage(vtkRenderer* renderer, int width, int height, double viewportAspect) {
+    vtkCamera* camera = renderer->GetActiveCamera();
+    camera->ParallelProjectionOn();
+    const double cx = (width - 1) * 0.5, cy = (height - 1) * 0.5;
+    camera->SetFocalPoint(cx, cy, 0.0);
+    camera->SetPosition(cx, cy, 1e4);
+    camera->SetViewUp(0, 1, 0);
+    camera->SetParallelScale(0.5 * std::max<double>(height, width / viewportAspect) * 1.08);
+    renderer->ResetCameraClippingRange();
+}
+
+void addImagePanel(vtkRenderer* renderer, vtkImageData* image, const std::string& array, vtkLookupTable* lut) {
+    // Panels may show different arrays of one image: each maps its own shallow copy (shared arrays,
+    // its own active scalars).
+    vtkNew<vtkImageData> shown;
+    shown->ShallowCopy(image);
+    if (!shown->GetPointData()->HasArray(array.c_str()))
+        throw InternalError("addImagePanel: the image has no array '" + array + "'");
+    shown->GetPointData()->SetActiveScalars(array.c_str());
+    vtkNew<vtkImageMapToColors> colours;
+    colours->SetInputData(shown);
+    colours->SetLookupTable(lut);
+    colours->SetOutputFormatToRGB();
+    vtkNew<vtkImageActor> actor;
+    actor->GetMapper()->SetInputConnection(colours->GetOutputPort());
+    actor->InterpolateOff();  // texels stay squares
+    renderer->AddActor(actor);
+    int* dims = image->GetDimensions();
+    fitImage(renderer, dims[0], dims[1], 1.0);
+}
+
+void addImagePanelWithBar(VtkOffscreen& out, vtkImageData* image, const std::string& array, vtkLookupTable* lut,
+                          const std::string& title, const std::string& barTitle, double x0, double y0, double x1,
+                          double y1) {
+    const double split = x0 + (x1 - x0) * 0.8;
+    vtkRenderer* panel = out.addRenderer();
+    panel->SetViewport(x0, y0, split, y1);
+    panel->SetBackground(0.12, 0.12, 0.14);
+    addImagePanel(panel, image, array, lut);
+    int* dims = image->GetDimensions();
+    fitImage(panel, dims[0], dims[1], (split - x0) * out.width() / ((y1 - y0) * out.height()));
+    panel->AddActor2D(titleActor(title, out.height()));
+    vtkRenderer* side = out.addRenderer();
+    side->SetViewport(split, y0, x1, y1);
+    side->SetBackground(0.12, 0.12, 0.14);
+    auto bar = colourBar(lut, barTitle);
+    bar->SetPosition(0.0, 0.08);
+    bar->SetPosition2(0.8, 0.84);
+    side->AddActor2D(bar);
+}
+
+vtkSmartPointer<vtkActor> lineActor(const std::vector<std::pair<glm::vec3, glm::vec3>>& lines, glm::vec3 rgb,
+                                    float width) {
+    vtkNew<FunctionSource> source;
+    source->SetGenerator([lines](vtkPolyData* out) {
+        vtkNew<vtkPoints> points;
+        vtkNew<vtkCellArray> cells;
+        for (const auto& [a, b] : lines) {
+            vtkIdType ids[2] = {points->InsertNextPoint(a.x, a.y, a.z), points->InsertNextPoint(b.x, b.y, b.z)};
+            cells->InsertNextCell(2, ids);
+        }
+        out->SetPoints(points);
+        out->SetLines(cells);
+    });
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputConnection(source->GetOutputPort());
+    mapper->ScalarVisibilityOff();
+    auto actor = vtkSmartPointer<vtkActor>::New();
+    actor->SetMapper(mapper);
+    actor->GetProperty()->SetColor(rgb.r, rgb.g, rgb.b);
+    actor->GetProperty()->SetLineWidth(width);
+    actor->GetProperty()->LightingOff();
+    return actor;
+}
+
+void writePolyData(vtkPolyData* data, const std::string& path) {
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->SetFileName(path.c_str());
+    writer->SetInputData(data);
+    writer->SetDataModeToAppended();
+    if (writer->Write() != 1) throw InternalError("cannot write " + path);
+}
+
+void writeImageData(vtkImageData* data, const std::string& path) {
+    vtkNew<vtkXMLImageDataWriter> writer;
+    writer->SetFileName(path.c_str());
+    writer->SetInputData(data);
+    writer->SetDataModeToAppended();
+    if (writer->Write() != 1) throw InternalError("cannot write " + path);
+}
+
+// ---- rendering a view --------------------------------------------------------------------------------
+static void checkRequest(const Renderer& renderer, const ViewRequest& request);
+
+std::string viewRefusal(const Renderer& renderer, const ViewRequest& request) {
+    const ViewDesc& view = requireView(request.view);
+    checkRequest(renderer, request);
+    return view.refusal ? view.refusal(renderer, request) : "";
+}
+
+static void checkRequest(const Renderer& renderer, const ViewRequest& request) {
+    if (request.pixel && (request.pixel->x < 0 || request.pixel->y < 0 || request.pixel->x >= renderer.width() ||
+                          request.pixel->y >= renderer.height()))
+        throw InputError("--pixel: expected x,y inside the " + std::to_string(renderer.width()) + "x" +
+                         std::to_string(renderer.height()) + " image, got " + std::to_string(request.pixel->x) + "," +
+                         std::to_string(request.pixel->y));
+    if (request.light < 0 || request.light >= int(renderer.lights().size()))
+        throw InputError("--light: expected a light index in 0.." + std::to_string(int(renderer.lights().size()) - 1) +
+                         ", got " + std::to_string(request.light));
+    if (request.rays < 1 || request.rays > 4096)
+        throw InputError("--rays: expected 1..4096, got " + std::to_string(request.rays));
+    if (!(request.zoom > 0.0f) || !std::isfinite(request.zoom))
+        throw InputError("--zoom: expected a positive number, got " + formatNumber(request.zoom));
+}
+
+ViewResult renderView(Renderer& renderer, const Scene& scene, const ViewRequest& request, VtkOffscreen& out) {
+    const ViewDesc& view = requireView(request.view);
+    checkRequest(renderer, request);
+    if (std::string why = view.refusal ? view.refusal(renderer, request) : ""; !why.empty())
+        throw InputError("view " + view.info.name + ": " + why);
+    if (!request.exportPath.empty() &&
+        std::filesystem::path(request.exportPath).extension().string() != view.info.exportExtension)
+        throw InputError("--export: view " + view.info.name + " exports " + view.info.exportExtension + " data, got '" +
+                         request.exportPath + "'");
+
+    // The frame data every view may read: the picture, visibility, G-buffer and the internals (with
+    // the per-pixel records when a pixel is picked), at the renderer's current time.
+    std::set<std::string> requested = {"image", "visibility", "gbuffer"};
+    std::set<std::string> internals = renderer.internalRequests(request.pixel.has_value());
+    requested.insert(internals.begin(), internals.end());
+    const double time = renderer.time();
+    renderer.setTime(time);
+    renderer.renderFrame(int(std::lround(time / kSecondsPerFrame)), requested);
+
+    ViewContext ctx(renderer, scene, request, out);
+    renderer.writeInternals(ctx.collected_, request.pixel);
+
+    out.resize(request.width, request.height);
+    // A fresh set of renderers for this view.
+    while (out.window()->GetRenderers()->GetNumberOfItems() > 0)
+        out.window()->RemoveRenderer(out.window()->GetRenderers()->GetFirstRenderer());
+    ViewResult result;
+    view.build(ctx, result);
+    result.image = out.render();
+    return result;
+}
+
+ViewResult renderView(Renderer& renderer, const Scene& scene, const ViewRequest& request) {
+    // The frame is sized by the request; renderView(.., out) resizes it again (a no-op).
+    int w = request.width, h = request.height;
+    if (w < 1 || h < 1 || w > 8192 || h > 8192)
+        throw InputError("--size: expected WxH with each side in 1..8192, got " + std::to_string(w) + "x" +
+                         std::to_string(h));
+    VtkOffscreen out(w, h);
+    return renderView(renderer, scene, request, out);
+}
+
+}  // namespace shadowlab
