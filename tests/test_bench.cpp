@@ -10,7 +10,10 @@
 
 #include <stb/stb_image.h>
 
+#include "chart_accuracy_time.h"
 #include "cli_run.h"
+#include "gl_fixture.h"
+#include "vtk_offscreen.h"
 
 namespace fs = std::filesystem;
 using shadowlab::test::run;
@@ -109,7 +112,7 @@ TEST(Bench, CsvHasEveryColumnAndThePlotIsWrittenAsPngSvgPdf) {
     EXPECT_FALSE(rows[0]["ms.hard/shadow_map"].empty());
     EXPECT_TRUE(rows[0]["ms.pcf/filter"].empty());
 
-    // The PNG chart: the series' colours are on it (hard blue, pcf orange, reference green).
+    // The PNG chart: the series' colours are on it (each technique's colour is fixed by the registry).
     int w = 0, h = 0, n = 0;
     unsigned char* png = stbi_load((dir + "/plot.png").c_str(), &w, &h, &n, 3);
     ASSERT_NE(png, nullptr);
@@ -121,14 +124,20 @@ TEST(Bench, CsvHasEveryColumnAndThePlotIsWrittenAsPngSvgPdf) {
                 return true;
         return false;
     };
-    EXPECT_TRUE(has(0, 114, 178));
-    EXPECT_TRUE(has(213, 94, 0));
-    EXPECT_TRUE(has(0, 158, 115));
+    for (const char* technique : {"hard", "pcf", "reference"}) {
+        shadowlab::Rgb8 c = shadowlab::techniqueChartColour(technique);
+        EXPECT_TRUE(has(c.r, c.g, c.b)) << technique;
+    }
     stbi_image_free(png);
     // SVG and PDF: VTK's vector exporters; the PDF keeps its text as text.
     const std::string svg = readText(dir + "/plot.svg");
     EXPECT_NE(svg.find("<svg"), std::string::npos);
-    EXPECT_NE(svg.find("#0072b2"), std::string::npos);  // hard's colour
+    {
+        shadowlab::Rgb8 c = shadowlab::techniqueChartColour("hard");
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
+        EXPECT_NE(svg.find(hex), std::string::npos) << "hard's colour " << hex;
+    }
     const std::string pdf = readText(dir + "/plot.pdf");
     EXPECT_EQ(pdf.rfind("%PDF", 0), 0u);
     EXPECT_GT(pdf.size(), 2000u);
@@ -250,9 +259,6 @@ TEST(Bench, ShippedSpecsLoad) {
 }
 
 // ---- the chart in-process: the Pareto front and the window's highlighted setting -----------------
-#include "chart_accuracy_time.h"
-#include "gl_fixture.h"
-#include "vtk_offscreen.h"
 
 TEST(AccuracyTimeChart, ParetoFrontKeepsOnlyUnbeatenSettings) {
     using shadowlab::AccuracyTimePoint;
@@ -289,8 +295,9 @@ TEST_F(AccuracyTimeChartGL, HighlightedSettingIsRingedAndZeroErrorIsDrawn) {
         return c;
     };
     EXPECT_GT(count(220, 0, 0), 40);    // the red ring around the current setting (and its legend entry)
-    // raytraced's point, in its own colour (the registry's fourth), though an error of 0 has no place on
-    // a log axis: it is drawn at the axis floor.
-    EXPECT_GT(count(204, 121, 167), 20);
+    // raytraced's point, in its own colour, though an error of 0 has no place on a log axis: it is
+    // drawn at the axis floor.
+    const shadowlab::Rgb8 ray = shadowlab::techniqueChartColour("raytraced");
+    EXPECT_GT(count(ray.r, ray.g, ray.b), 20);
     stbi_image_free(png);
 }

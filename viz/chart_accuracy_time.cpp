@@ -258,6 +258,11 @@ bool spansDecades(double lo, double hi) { return lo > 0.0 && hi / lo > 10.0; }
 
 }  // namespace
 
+Rgb8 techniqueChartColour(const std::string& technique) {
+    const unsigned char* c = kColours[colourIndex(technique, {technique})];
+    return {c[0], c[1], c[2]};
+}
+
 std::vector<size_t> paretoFront(const std::vector<AccuracyTimePoint>& points) {
     std::vector<size_t> order(points.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;

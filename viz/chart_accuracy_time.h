@@ -37,6 +37,12 @@ struct AccuracyTimeStyle {
     bool labels = true;              // draw each point's label
 };
 
+// The colour of a registered technique's series (8-bit RGB), fixed by its place in the registry.
+struct Rgb8 {
+    unsigned char r, g, b;
+};
+Rgb8 techniqueChartColour(const std::string& technique);
+
 // Indices of the points on the Pareto front (no other point is both faster and more accurate),
 // sorted by time. Ties in time keep the more accurate point.
 std::vector<size_t> paretoFront(const std::vector<AccuracyTimePoint>& points);
