@@ -236,22 +236,33 @@ public:
 };
 vtkStandardNewMacro(AccuracyTimeMarks);
 
-// Colours of the series, in order (Okabe-Ito, readable by colour-blind readers and in print).
-const unsigned char kColours[][3] = {{0, 114, 178},  {213, 94, 0},   {0, 158, 115},  {204, 121, 167},
-                                     {230, 159, 0},  {86, 180, 233}, {120, 120, 120}, {240, 228, 66}};
+// Colours of the techniques' series: Okabe-Ito (readable by colour-blind readers and in print)
+// and three darker hues, in registry order; the two references are greys (ground truth, not a
+// contender), so they never take a colour from a technique.
+constexpr int kColourCount = 10;
+const unsigned char kColours[kColourCount][3] = {{0, 114, 178},  {213, 94, 0},   {0, 158, 115},  {204, 121, 167},
+                                                 {230, 159, 0},  {86, 180, 233}, {240, 228, 66}, {0, 60, 130},
+                                                 {140, 80, 20},  {110, 130, 0}};
+const unsigned char kReferenceGrey[3] = {70, 70, 70};
+const unsigned char kRaytracedGrey[3] = {150, 150, 150};
 
-// A technique keeps its colour in every chart: its place in the registry (the order of `shadowlab
-// list`); names the registry does not know take the colours after, in the order they appear.
-size_t colourIndex(const std::string& name, const std::vector<std::string>& series) {
-    const auto& all = allTechniques();
-    for (size_t i = 0; i < all.size(); ++i)
-        if (all[i]->id == name) return i % 8;
-    size_t unknown = 0;
+// A technique keeps its colour in every chart: its place among the registry's non-reference
+// techniques (the order of `shadowlab list`); names the registry does not know take the colours
+// after, in the order they appear.
+const unsigned char* seriesColour(const std::string& name, const std::vector<std::string>& series) {
+    if (name == "reference") return kReferenceGrey;
+    if (name == "raytraced") return kRaytracedGrey;
+    size_t index = 0;
+    for (const TechniqueDesc* d : allTechniques()) {
+        if (d->id == "reference" || d->id == "raytraced") continue;
+        if (d->id == name) return kColours[index % kColourCount];
+        ++index;
+    }
     for (const std::string& s : series) {
         if (s == name) break;
-        if (!findTechnique(s)) ++unknown;
+        if (!findTechnique(s)) ++index;
     }
-    return (all.size() + unknown) % 8;
+    return kColours[index % kColourCount];
 }
 
 bool spansDecades(double lo, double hi) { return lo > 0.0 && hi / lo > 10.0; }
@@ -259,7 +270,7 @@ bool spansDecades(double lo, double hi) { return lo > 0.0 && hi / lo > 10.0; }
 }  // namespace
 
 Rgb8 techniqueChartColour(const std::string& technique) {
-    const unsigned char* c = kColours[colourIndex(technique, {technique})];
+    const unsigned char* c = seriesColour(technique, {technique});
     return {c[0], c[1], c[2]};
 }
 
@@ -326,7 +337,7 @@ vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& pane
     for (size_t i : front) marks->front.push_back(panel.points[i]);
     for (size_t s = 0; s < series.size(); ++s) {
         AccuracyTimeMarks::Series entry;
-        std::copy_n(kColours[colourIndex(series[s], series)], 3, entry.colour);
+        std::copy_n(seriesColour(series[s], series), 3, entry.colour);
         for (const AccuracyTimePoint& p : panel.points)
             if (p.series == series[s]) entry.points.push_back(p);
         marks->series.push_back(entry);

@@ -37,7 +37,8 @@ struct AccuracyTimeStyle {
     bool labels = true;              // draw each point's label
 };
 
-// The colour of a registered technique's series (8-bit RGB), fixed by its place in the registry.
+// The colour of a technique's series (8-bit RGB), fixed by its place in the registry; the two
+// references (reference, raytraced) are greys.
 struct Rgb8 {
     unsigned char r, g, b;
 };
