@@ -152,6 +152,7 @@ const std::vector<std::string>& fixedCsvColumns();
 
 struct RunInfo {
     std::string glRenderer, cpu, lpNumThreads, version, date;
+    std::string loadAverage;  // /proc/loadavg's 1, 5 and 15 minute loads when the run started (other processes share the cores)
     double seconds = 0.0;
     std::vector<std::string> commandLine;
 };

@@ -246,6 +246,9 @@ RunInfo currentRunInfo(const std::string& glRenderer) {
         }
     }
     if (cores) info.cpu += " (" + std::to_string(cores) + " logical cores)";
+    std::ifstream loadavg("/proc/loadavg");
+    std::string l1, l5, l15;
+    if (loadavg >> l1 >> l5 >> l15) info.loadAverage = l1 + " " + l5 + " " + l15;
     const char* lp = std::getenv("LP_NUM_THREADS");
     info.lpNumThreads = lp ? lp : "unset";
     std::time_t now = std::time(nullptr);

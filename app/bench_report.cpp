@@ -153,6 +153,9 @@ std::string benchReportMarkdown(const BenchSpec& spec, const std::vector<Measure
     o << "| GL renderer | " << info.glRenderer << " |\n";
     o << "| CPU | " << info.cpu << " |\n";
     o << "| LP_NUM_THREADS | " << info.lpNumThreads << " |\n";
+    if (!info.loadAverage.empty())
+        o << "| load average at the start (1, 5, 15 min) | " << info.loadAverage
+          << " (other processes on the cores make times vary; errors do not) |\n";
     if (!rows.empty()) {
         o << "| size | " << rows[0].width << "x" << rows[0].height << " |\n";
         o << "| frames | " << rows[0].warmup << " warm-up, then the median of " << rows[0].frames

@@ -164,6 +164,7 @@ int commandBench(const std::vector<std::string>& args) {
     if (!std::getenv("LP_NUM_THREADS"))
         setenv("LP_NUM_THREADS", std::to_string(std::max(1u, std::thread::hardware_concurrency())).c_str(), 1);
     auto context = createHeadlessContext(parseBackend(opts.get("--gl", "egl")));
+    RunInfo info = currentRunInfo(context->renderer());  // before the run: its load average is the others'
     const bool quiet = opts.has("--quiet");
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -209,7 +210,6 @@ int commandBench(const std::vector<std::string>& args) {
         }
     }
 
-    RunInfo info = currentRunInfo(context->renderer());
     info.seconds = elapsed();
     info.commandLine = {"shadowlab"};
     info.commandLine.insert(info.commandLine.end(), args.begin(), args.end());
@@ -229,6 +229,7 @@ int commandBench(const std::vector<std::string>& args) {
                             {"gl_renderer", info.glRenderer},
                             {"cpu", info.cpu},
                             {"lp_num_threads", info.lpNumThreads},
+                            {"load_average", info.loadAverage},
                             {"date", info.date},
                             {"command_line", info.commandLine},
                             {"size", {spec.width, spec.height}},

@@ -452,7 +452,7 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
               {"cells", cellsJson},
               {"program", {{"name", "shadowlab"}, {"version", info.version}}},
               {"gl_renderer", info.glRenderer},
-              {"machine", {{"cpu", info.cpu}, {"lp_num_threads", info.lpNumThreads}}},
+              {"machine", {{"cpu", info.cpu}, {"lp_num_threads", info.lpNumThreads}, {"load_average", info.loadAverage}}},
               {"date", info.date},
               {"picture_size", {picture.width, picture.height}}};
     if (remakeFrom) side["remade_from"] = {{"date", remakeFrom->value("date", "")}, {"out", remakeFrom->value("out", "")}};

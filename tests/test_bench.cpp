@@ -10,7 +10,10 @@
 
 #include <stb/stb_image.h>
 
+#include "chart_accuracy_time.h"
 #include "cli_run.h"
+#include "gl_fixture.h"
+#include "vtk_offscreen.h"
 
 namespace fs = std::filesystem;
 using shadowlab::test::run;
@@ -109,7 +112,7 @@ TEST(Bench, CsvHasEveryColumnAndThePlotIsWrittenAsPngSvgPdf) {
     EXPECT_FALSE(rows[0]["ms.hard/shadow_map"].empty());
     EXPECT_TRUE(rows[0]["ms.pcf/filter"].empty());
 
-    // The PNG chart: the series' colours are on it (hard blue, pcf orange, reference green).
+    // The PNG chart: the series' colours are on it (each technique's colour is fixed by the registry).
     int w = 0, h = 0, n = 0;
     unsigned char* png = stbi_load((dir + "/plot.png").c_str(), &w, &h, &n, 3);
     ASSERT_NE(png, nullptr);
@@ -121,14 +124,20 @@ TEST(Bench, CsvHasEveryColumnAndThePlotIsWrittenAsPngSvgPdf) {
                 return true;
         return false;
     };
-    EXPECT_TRUE(has(0, 114, 178));
-    EXPECT_TRUE(has(213, 94, 0));
-    EXPECT_TRUE(has(0, 158, 115));
+    for (const char* technique : {"hard", "pcf", "reference"}) {
+        shadowlab::Rgb8 c = shadowlab::techniqueChartColour(technique);
+        EXPECT_TRUE(has(c.r, c.g, c.b)) << technique;
+    }
     stbi_image_free(png);
     // SVG and PDF: VTK's vector exporters; the PDF keeps its text as text.
     const std::string svg = readText(dir + "/plot.svg");
     EXPECT_NE(svg.find("<svg"), std::string::npos);
-    EXPECT_NE(svg.find("#0072b2"), std::string::npos);  // hard's colour
+    {
+        shadowlab::Rgb8 c = shadowlab::techniqueChartColour("hard");
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
+        EXPECT_NE(svg.find(hex), std::string::npos) << "hard's colour " << hex;
+    }
     const std::string pdf = readText(dir + "/plot.pdf");
     EXPECT_EQ(pdf.rfind("%PDF", 0), 0u);
     EXPECT_GT(pdf.size(), 2000u);
@@ -247,4 +256,50 @@ TEST(Bench, ShippedSpecsLoad) {
         EXPECT_NE(r.output.find("--csv: folder '/nonexistent-folder' does not exist"), std::string::npos)
             << spec << ": " << r.output;
     }
+}
+
+// ---- the chart in-process: the Pareto front and the window's highlighted setting -----------------
+
+TEST(AccuracyTimeChart, ParetoFrontKeepsOnlyUnbeatenSettings) {
+    using shadowlab::AccuracyTimePoint;
+    std::vector<AccuracyTimePoint> points = {
+        {"hard", "default", 1.0, 0.10, false},  // fastest: on the front
+        {"pcf", "n=3", 2.0, 0.12, false},       // slower and worse than hard: off
+        {"pcf", "n=9", 4.0, 0.08, false},       // on
+        {"pcf", "n=15", 4.0, 0.09, false},      // same time as n=9, worse: off
+        {"reference", "N=16", 50.0, 0.02, false},  // on
+        {"reference", "N=64", 40.0, 0.03, false},  // faster than N=16 and better than n=9: on
+    };
+    std::vector<size_t> front = shadowlab::paretoFront(points);
+    EXPECT_EQ(front, (std::vector<size_t>{0, 2, 5, 4}));
+}
+
+class AccuracyTimeChartGL : public shadowlab::testing::GLTest {};
+
+TEST_F(AccuracyTimeChartGL, HighlightedSettingIsRingedAndZeroErrorIsDrawn) {
+    using shadowlab::AccuracyTimePoint;
+    shadowlab::AccuracyTimePanel panel{"test", {{"hard", "default", 1.5, 0.1, false},
+                                                {"pcf", "n=9", 6.0, 0.05, true},
+                                                {"exact", "zero", 300.0, 0.0, false},  // a series the registry does not know: the next colour
+                                                {"reference", "N=64", 200.0, 0.004, false}}};
+    const std::string path = testPath("bench", "highlight.png");
+    shadowlab::writeAccuracyTimeChart({panel}, {}, 600, 400, path, ".png");
+    EXPECT_EQ(shadowlab::vtkMessages().errors, 0) << shadowlab::vtkMessages().last;
+    int w = 0, h = 0, n = 0;
+    unsigned char* png = stbi_load(path.c_str(), &w, &h, &n, 3);
+    ASSERT_NE(png, nullptr);
+    auto count = [&](int r0, int g0, int b0) {
+        int c = 0;
+        for (int i = 0; i < w * h; ++i)
+            if (std::abs(png[i * 3] - r0) < 20 && std::abs(png[i * 3 + 1] - g0) < 20 && std::abs(png[i * 3 + 2] - b0) < 20) ++c;
+        return c;
+    };
+    // The red ring around the current setting and its legend entry: about 166 pixels each.
+    EXPECT_GT(count(220, 0, 0), 250);
+    // The zero-error point, in its series' colour, though an error of 0 has no place on a log axis:
+    // it is drawn at the axis floor. (Its colour is used by no other mark or text.)
+    const shadowlab::Rgb8 exact = shadowlab::techniqueChartColour("exact");
+    // A disc of radius 5 covers about 58 pixels of its exact colour: the legend's swatch and the point.
+    EXPECT_GT(count(exact.r, exact.g, exact.b), 90);
+    stbi_image_free(png);
 }

@@ -27,6 +27,7 @@
 
 #include "error.h"
 #include "image.h"
+#include "technique.h"
 #include "vtk_offscreen.h"
 
 namespace shadowlab {
@@ -132,7 +133,8 @@ public:
                 float x, y;
                 if (!at(p, x, y)) continue;
                 painter->DrawEllipse(x, y, radius, radius);
-                taken.push_back({x - radius, y - radius, x + radius, y + radius});
+                const float r = p.highlight ? 2.2f * radius + 1.5f : radius;  // the ring drawn below
+                taken.push_back({x - r, y - r, x + r, y + r});
             }
         }
         if (labels)
@@ -144,7 +146,7 @@ public:
                     const std::string label = p.error <= 0.0 && logY ? p.label + " (error 0)" : p.label;
                     float b[4];
                     painter->ComputeStringBounds(label, b);
-                    const float w = b[2], h = b[3], gap = radius + 1.0f;
+                    const float w = b[2], h = b[3], gap = (p.highlight ? 2.2f * radius + 1.5f : radius) + 1.0f;
                     const Box candidates[] = {{x + gap, y + 1.0f, x + gap + w, y + 1.0f + h},
                                               {x + gap, y - 1.0f - h, x + gap + w, y - 1.0f},
                                               {x - gap - w, y + 1.0f, x - gap, y + 1.0f + h},
@@ -234,13 +236,43 @@ public:
 };
 vtkStandardNewMacro(AccuracyTimeMarks);
 
-// Colours of the series, in order (Okabe-Ito, readable by colour-blind readers and in print).
-const unsigned char kColours[][3] = {{0, 114, 178},  {213, 94, 0},   {0, 158, 115},  {204, 121, 167},
-                                     {230, 159, 0},  {86, 180, 233}, {120, 120, 120}, {240, 228, 66}};
+// Colours of the techniques' series: Okabe-Ito (readable by colour-blind readers and in print)
+// and three darker hues, in registry order; the two references are greys (ground truth, not a
+// contender), so they never take a colour from a technique.
+constexpr int kColourCount = 10;
+const unsigned char kColours[kColourCount][3] = {{0, 114, 178},  {213, 94, 0},   {0, 158, 115},  {204, 121, 167},
+                                                 {230, 159, 0},  {86, 180, 233}, {240, 228, 66}, {0, 60, 130},
+                                                 {140, 80, 20},  {110, 130, 0}};
+const unsigned char kReferenceGrey[3] = {70, 70, 70};
+const unsigned char kRaytracedGrey[3] = {150, 150, 150};
+
+// A technique keeps its colour in every chart: its place among the registry's non-reference
+// techniques (the order of `shadowlab list`); names the registry does not know take the colours
+// after, in the order they appear.
+const unsigned char* seriesColour(const std::string& name, const std::vector<std::string>& series) {
+    if (name == "reference") return kReferenceGrey;
+    if (name == "raytraced") return kRaytracedGrey;
+    size_t index = 0;
+    for (const TechniqueDesc* d : allTechniques()) {
+        if (d->id == "reference" || d->id == "raytraced") continue;
+        if (d->id == name) return kColours[index % kColourCount];
+        ++index;
+    }
+    for (const std::string& s : series) {
+        if (s == name) break;
+        if (!findTechnique(s)) ++index;
+    }
+    return kColours[index % kColourCount];
+}
 
 bool spansDecades(double lo, double hi) { return lo > 0.0 && hi / lo > 10.0; }
 
 }  // namespace
+
+Rgb8 techniqueChartColour(const std::string& technique) {
+    const unsigned char* c = seriesColour(technique, {technique});
+    return {c[0], c[1], c[2]};
+}
 
 std::vector<size_t> paretoFront(const std::vector<AccuracyTimePoint>& points) {
     std::vector<size_t> order(points.size());
@@ -305,7 +337,7 @@ vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& pane
     for (size_t i : front) marks->front.push_back(panel.points[i]);
     for (size_t s = 0; s < series.size(); ++s) {
         AccuracyTimeMarks::Series entry;
-        std::copy_n(kColours[s % 8], 3, entry.colour);
+        std::copy_n(seriesColour(series[s], series), 3, entry.colour);
         for (const AccuracyTimePoint& p : panel.points)
             if (p.series == series[s]) entry.points.push_back(p);
         marks->series.push_back(entry);

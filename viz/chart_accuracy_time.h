@@ -37,11 +37,19 @@ struct AccuracyTimeStyle {
     bool labels = true;              // draw each point's label
 };
 
+// The colour of a technique's series (8-bit RGB), fixed by its place in the registry; the two
+// references (reference, raytraced) are greys.
+struct Rgb8 {
+    unsigned char r, g, b;
+};
+Rgb8 techniqueChartColour(const std::string& technique);
+
 // Indices of the points on the Pareto front (no other point is both faster and more accurate),
 // sorted by time. Ties in time keep the more accurate point.
 std::vector<size_t> paretoFront(const std::vector<AccuracyTimePoint>& points);
 
-// One chart. The series appear in the order their names first occur.
+// One chart. The series appear in the order their names first occur; a technique's colour is fixed
+// by its place in the registry (the same in every chart and in the window).
 vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& panel, const AccuracyTimeStyle& style);
 
 // The panels in a grid (columns x rows chosen from their count) rendered at width x height and
