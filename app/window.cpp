@@ -395,6 +395,7 @@ void Window::updateMetrics() {
     metricsPenumbra_ = computeMetrics(test, ref, &mask);
     metricsGeneration_ = reference_.generation();
     metricsVersion_ = version_;
+    recordAccuracyPoint();
 }
 
 // The technique view is composed (present.frag: split, error, sRGB encoding) into a cached RGBA8
@@ -554,6 +555,7 @@ double Window::frame() {
         lessonClock_ = now;
         drawLesson(seconds);
     }
+    drawAccuracyChart();
     lap(phaseMs_[0]);
     renderViews();
     updateViews();

@@ -24,6 +24,7 @@
 #include "metrics.h"
 #include "renderer.h"
 #include "scene.h"
+#include "chart_accuracy_time.h"
 
 struct GLFWwindow;
 
@@ -60,6 +61,7 @@ struct WindowState {
     int referenceSamples = 1024;            // N of `reference` (its descriptor's default)
     float uiScale = 1.0f;
     bool showPanel = true, showHud = true, showHelp = false, showViews = false;
+    bool showAccuracy = false;  // the accuracy-time chart of the settings tried (A)
     std::vector<std::string> openViews;  // VTK views shown in the views panel (viz/views.h names)
 };
 
@@ -138,6 +140,8 @@ public:
     // "next", "previous", "restore", "check", "show-me" (the panel's buttons; --script lesson ACTION)
     void lessonAction(const std::string& action);
     const LessonPlayer* lesson() const { return lesson_.get(); }
+    // ---- the accuracy-time chart (window_accuracy.cpp): the settings tried against one reference.
+    void saveAccuracyPoints(const std::string& path) const;  // JSON (--script save-accuracy FILE)
 
     // ---- input (window_input.cpp): GLFW callbacks and synthetic events from --script.
     void key(int key, int mods);
@@ -166,6 +170,8 @@ private:
     friend class WindowLessonHost;
     bool lessonKey(int key) const;     // a key the open lesson's panel reads (the window ignores it)
     void drawLesson(double seconds);   // the lesson panel, and the step's animation advanced
+    void recordAccuracyPoint();        // the current setting's shadow_ms and RMSE (metrics just computed)
+    void drawAccuracyChart();
     bool rebuildScene();  // false (status says why) when the scene does not load: the old one stays
     void applyRendererState();
     void renderViews();
@@ -246,6 +252,11 @@ private:
     std::vector<std::unique_ptr<OpenView>> views_;
     void syncViewList();
     void updateViews();
+    std::vector<AccuracyTimePoint> accuracyPoints_;
+    uint64_t accuracyGeneration_ = ~0ull;
+    bool accuracyDirty_ = true;
+    int costFrame_ = 1 << 28;  // frame numbers of cost measurements (above any frame the window runs)
+    std::unique_ptr<VtkOffscreen> accuracyFrame_;
     std::unique_ptr<LessonHost> lessonHost_;
     std::unique_ptr<LessonPlayer> lesson_;
     clock::time_point lessonClock_{};

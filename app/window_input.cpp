@@ -37,6 +37,7 @@ const char* Window::helpText() {
            "  X             reduced resolution while dragging on / off\n"
            "  + / -         UI scale (projectors)\n"
            "  Tab           panel on / off;  H: HUD on / off;  V: views panel\n"
+           "  A             accuracy-time chart of the settings tried (against the complete reference)\n"
            "  P or F12      screenshot (shadowlab-<n>.png in the working folder)\n"
            "  With a lesson open (window --lesson L): Right / Left or PageDown / PageUp step,\n"
            "                R restores the step, C checks the task, M shows the answer, Space plays\n"
@@ -108,6 +109,7 @@ void Window::key(int key, int mods) {
     case GLFW_KEY_TAB: state_.showPanel = !state_.showPanel; break;
     case GLFW_KEY_H: state_.showHud = !state_.showHud; break;
     case GLFW_KEY_V: state_.showViews = !state_.showViews; break;
+    case GLFW_KEY_A: state_.showAccuracy = !state_.showAccuracy; break;
     case GLFW_KEY_P:
     case GLFW_KEY_F12: {
         std::string name;
@@ -279,7 +281,7 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         {"key", {1, 2}},      {"technique", {1, 1}}, {"scene", {1, 1}},      {"param", {2, 2}},
         {"reset-params", {0, 0}}, {"drag", {7, 7}},  {"scroll", {1, 1}},     {"pick", {2, 2}},
         {"split", {1, 1}},    {"split-at", {1, 1}},  {"error", {1, 1}},      {"frustum", {1, 1}},
-        {"ui-scale", {1, 1}}, {"help", {1, 1}},      {"panel", {1, 1}},      {"views", {1, 1}},
+        {"ui-scale", {1, 1}}, {"help", {1, 1}},      {"panel", {1, 1}},      {"views", {1, 1}}, {"accuracy", {1, 1}}, {"save-accuracy", {1, 1}},
         {"background", {1, 1}}, {"resize", {2, 2}},  {"wait", {1, 1}},       {"wait-reference", {0, 1}},
         {"screenshot", {1, 1}}, {"reference-samples", {1, 1}}, {"save-reference", {1, 1}},
         {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}, {"view", {1, 1}}, {"close-view", {1, 1}},
@@ -352,9 +354,10 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
             if (c.args[0] != "off" && c.args[0] != "reference" && !findTechnique(c.args[0]))
                 throw InputError(where + "split: expected off, reference or a technique, got '" + c.args[0] + "'");
         } else if (c.verb == "error" || c.verb == "frustum" || c.verb == "help" || c.verb == "panel" ||
-                   c.verb == "views" || c.verb == "background") {
+                   c.verb == "views" || c.verb == "background" || c.verb == "accuracy") {
             onOff(c.args[0]);
-        } else if (c.verb == "screenshot" || c.verb == "save-reference" || c.verb == "save-visibility") {
+        } else if (c.verb == "screenshot" || c.verb == "save-reference" || c.verb == "save-visibility" ||
+                   c.verb == "save-accuracy") {
             std::filesystem::path parent = std::filesystem::path(c.args[0]).parent_path();
             if (!parent.empty() && !std::filesystem::is_directory(parent))
                 throw InputError(where + "screenshot: folder '" + parent.string() + "' does not exist");
@@ -416,6 +419,8 @@ void Window::runScriptStep() {
         else if (c.verb == "help") state_.showHelp = on(0);
         else if (c.verb == "panel") state_.showPanel = on(0);
         else if (c.verb == "views") state_.showViews = on(0);
+        else if (c.verb == "accuracy") state_.showAccuracy = on(0);
+        else if (c.verb == "save-accuracy") saveAccuracyPoints(a[0]);
         else if (c.verb == "background") state_.backgroundReference = on(0);
         else if (c.verb == "view") openView(a[0]);
         else if (c.verb == "close-view") closeView(a[0]);
