@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Set-up (install what is missing, build), then the main job: with a display, the window on the
-# default scene and technique; without one, the default scene rendered headless into a folder and
+# first lesson (intro); without one, the default scene rendered headless into a folder and
 # the `intro` lesson rendered as an HTML handout (its path is printed last).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/build.sh"
 bin="$root/build/shadowlab"
 if [ -n "${DISPLAY:-}" ]; then
-  exec "$bin" window --scene square-occluder --technique pcf
+  exec "$bin" window --lesson intro
 fi
 out="${SHADOWLAB_DEMO_OUT:-$root/demo-output}"
 mkdir -p "$out"
