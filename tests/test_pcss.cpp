@@ -293,6 +293,30 @@ TEST_F(PcssRender, KernelLargerThanTheMapIsClampedAndFinite) {
     }
 }
 
+// A live change of a parameter that only the later passes read (the pass graph re-runs them alone)
+// gives the same picture as a fresh renderer with that value. sssm's step 2 once found step 1's
+// stencil marks already advanced by its previous run and left every penumbra hard. Exact equality:
+// same passes, same inputs, same GL state.
+TEST_F(PcssRender, LiveParameterChangeEqualsAFreshRender) {
+    const std::vector<std::tuple<std::string, std::string, std::string>> changes = {
+        {"sssm", "alpha", "0.01"}, {"sssm", "beta", "0.5"}, {"sssm", "filter", "mean"},
+        {"sssm", "sigma", "1"},    {"sssm", "filter_kernel", "15"}, {"pcss", "filter_kernel", "7"}};
+    for (const auto& [technique, key, value] : changes) {
+        Scene scene = loadScene("plant");
+        RenderOptions options;
+        options.width = options.height = 96;
+        options.technique = technique;
+        Renderer live(scene, options);
+        live.renderFrame(0, {"visibility"});
+        live.setParam(key, value);
+        live.renderFrame(1, {"visibility"});
+        options.sets = {{key, value}};
+        Renderer fresh(scene, options);
+        fresh.renderFrame(0, {"visibility"});
+        EXPECT_EQ(live.visibility().data, fresh.visibility().data) << technique << " " << key << "=" << value;
+    }
+}
+
 // ---- bad values ---------------------------------------------------------------------------------
 TEST(PcssParams, BadValuesAreRefusedNamingTheRule) {
     for (const char* id : {"pcss", "sssm"}) {

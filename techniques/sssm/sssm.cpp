@@ -102,6 +102,10 @@ private:
 class Step2Pass : public Pass {
 public:
     void execute(PassContext& ctx) override {
+        // Marks back to 1 on geometry first: when only alpha, beta or the filter changed, the pass
+        // graph runs step 2 without step 1, and the mask still holds the last run's 2s.
+        averageTargets_.bind(ctx, {"penumbra", "kernel_size", "horizontal_blur", "reuse_step2"});
+        drawStencilMarks(ctx, -1);
         const Texture& map = ctx.texture(shadowTestMap(ctx));
         const ShaderProgram& average = ctx.programs().get("common/fullscreen.vert", "sssm/step2.frag");
         average.use();
