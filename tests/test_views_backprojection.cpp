@@ -74,5 +74,37 @@ TEST_F(BackprojectionView, TechniquesWithoutTheRecordAreRefused) {
     EXPECT_NE(r.output.find("records no back-projection"), std::string::npos) << r.output;
 }
 
+// hsm: the steps the view marks are the record's (same levels and texels as --internals' pixel.json
+// gives), each step's texels lie inside its level, and techniques without an HSM are refused.
+TEST_F(BackprojectionView, HsmMarksTheKernelStepsOfTheRecord) {
+    Scene scene = loadScene("square-occluder");
+    RenderOptions o;
+    o.width = 96;
+    o.height = 96;
+    o.technique = "ssm-contour";
+    o.sets = {{"sm_size", "256"}};
+    Renderer renderer(scene, o);
+    ViewRequest request;
+    request.view = "hsm";
+    request.pixel = glm::ivec2(48, 60);
+    request.width = 320;
+    request.height = 240;
+    ASSERT_EQ(viewRefusal(renderer, request), "");
+    ViewResult r = renderView(renderer, scene, request);
+    EXPECT_EQ(r.data["levels"].get<int>(), 8);  // 128x128 .. 1x1 over a 256x256 map
+    ASSERT_TRUE(r.data.contains("steps"));
+    ASSERT_GE(r.data["steps"].size(), 1u);
+    for (const auto& s : r.data["steps"]) {
+        const int level = s["level"].get<int>(), size = 256 >> level;
+        for (int c = 0; c < 4; ++c) {
+            EXPECT_GE(s["texels"][c].get<int>(), 0);
+            EXPECT_LT(s["texels"][c].get<int>(), size) << s.dump();
+        }
+    }
+    EXPECT_NE(r.caption.find("steps"), std::string::npos);
+    Renderer pcf(scene, [] { RenderOptions p; p.width = 64; p.height = 64; p.technique = "pcf"; return p; }());
+    EXPECT_NE(viewRefusal(pcf, request).find("no min/max pyramid"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace shadowlab
