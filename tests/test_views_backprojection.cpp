@@ -1,0 +1,110 @@
+// The `backprojection` view (viz/view_backprojection.cpp) on ssm-contour and ssm-gbp06: the visible
+// fraction it prints (recomputed from the per-pixel record) equals the technique's visibility at
+// the pixel, its export loads back with one cell per edge or sample, and techniques without the
+// record are refused.
+#include <gtest/gtest.h>
+
+#include <vtkCellData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkNew.h>
+
+#include <cmath>
+
+#include "cli_run.h"
+#include "error.h"
+#include "gl_fixture.h"
+#include "image.h"
+#include "renderer.h"
+#include "scene.h"
+#include "views.h"
+
+namespace shadowlab {
+namespace {
+
+class BackprojectionView : public testing::GLTest {};
+
+// Tolerance 1e-4: the record's areas are floats summed on the CPU, the image's visibility on the
+// GPU (the techniques' own record test uses the same bound).
+TEST_F(BackprojectionView, VisibleFractionEqualsTheImageAndExportLoadsBack) {
+    Scene scene = loadScene("square-occluder");
+    int checked = 0, withItems = 0;
+    for (const std::string technique : {"ssm-contour", "ssm-gbp06"}) {
+        RenderOptions o;
+        o.width = 96;
+        o.height = 96;
+        o.technique = technique;
+        o.sets = {{"sm_size", "256"}};
+        Renderer renderer(scene, o);
+        renderer.renderFrame(0, {"visibility"});
+        const Image vis = renderer.visibility();
+        // A penumbra pixel and a few others along a row through the shadow.
+        std::vector<glm::ivec2> pixels;
+        for (int x = 8; x < 96; x += 11) pixels.push_back({x, 60});
+        for (const glm::ivec2 p : pixels) {
+            if (renderer.ids().at(p.x, p.y) < 0.0f) continue;
+            ViewRequest request;
+            request.view = "backprojection";
+            request.pixel = p;
+            request.width = 320;
+            request.height = 240;
+            request.exportPath = test::testPath("viz", "bp-" + technique + "-" + std::to_string(p.x) + ".vtp");
+            ASSERT_EQ(viewRefusal(renderer, request), "");
+            ViewResult r = renderView(renderer, scene, request);
+            const double shown = r.data["visible_fraction"].get<double>();
+            EXPECT_NEAR(shown, vis.at(p.x, p.y), 1e-4) << technique << " pixel " << p.x << "," << p.y;
+            EXPECT_NE(r.caption.find("visible fraction"), std::string::npos);
+            vtkNew<vtkXMLPolyDataReader> reader;
+            reader->SetFileName(request.exportPath.c_str());
+            reader->Update();
+            EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(), r.data["count"].get<vtkIdType>()) << technique;
+            EXPECT_NE(reader->GetOutput()->GetCellData()->GetArray("signed_area"), nullptr);
+            ++checked;
+            if (r.data["count"].get<int>() > 0) ++withItems;
+        }
+    }
+    EXPECT_GE(checked, 10);
+    EXPECT_GE(withItems, 2);  // some pixels are in the penumbra: edges / samples drawn
+}
+
+TEST_F(BackprojectionView, TechniquesWithoutTheRecordAreRefused) {
+    auto r = test::run("viz --view backprojection --scene square-occluder --technique pcf --pixel 40,40 --size 64x64 --out " +
+                       test::testPath("viz", "bp-refused.png"));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("records no back-projection"), std::string::npos) << r.output;
+}
+
+// hsm: the steps the view marks are the record's (same levels and texels as --internals' pixel.json
+// gives), each step's texels lie inside its level, and techniques without an HSM are refused.
+TEST_F(BackprojectionView, HsmMarksTheKernelStepsOfTheRecord) {
+    Scene scene = loadScene("square-occluder");
+    RenderOptions o;
+    o.width = 96;
+    o.height = 96;
+    o.technique = "ssm-contour";
+    o.sets = {{"sm_size", "256"}};
+    Renderer renderer(scene, o);
+    ViewRequest request;
+    request.view = "hsm";
+    request.pixel = glm::ivec2(48, 60);
+    request.width = 320;
+    request.height = 240;
+    ASSERT_EQ(viewRefusal(renderer, request), "");
+    ViewResult r = renderView(renderer, scene, request);
+    EXPECT_EQ(r.data["levels"].get<int>(), 8);  // 128x128 .. 1x1 over a 256x256 map
+    ASSERT_TRUE(r.data.contains("steps"));
+    ASSERT_GE(r.data["steps"].size(), 1u);
+    for (const auto& s : r.data["steps"]) {
+        const int level = s["level"].get<int>(), size = 256 >> level;
+        for (int c = 0; c < 4; ++c) {
+            EXPECT_GE(s["texels"][c].get<int>(), 0);
+            EXPECT_LT(s["texels"][c].get<int>(), size) << s.dump();
+        }
+    }
+    EXPECT_NE(r.caption.find("steps"), std::string::npos);
+    Renderer pcf(scene, [] { RenderOptions p; p.width = 64; p.height = 64; p.technique = "pcf"; return p; }());
+    EXPECT_NE(viewRefusal(pcf, request).find("no min/max pyramid"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace shadowlab
