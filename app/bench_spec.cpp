@@ -259,7 +259,10 @@ BenchSpec loadBenchSpec(const std::string& path) {
             const json& values = f.require("values", "an object {paper column: number}");
             if (!values.is_object() || values.empty())
                 r.fail(f.path("values"), "a non-empty object {paper column: number}", describeJson(values));
-            for (const auto& [name, v] : values.items()) {
+            for (const auto& item : values.items()) {
+                // Not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
+                const std::string& name = item.key();
+                const json& v = item.value();
                 const std::string vp = fieldPath(f.path("values"), name);
                 bool known = std::any_of(paper.columns.begin(), paper.columns.end(), [&](const auto& c) { return c.first == name; });
                 if (!known) r.fail(vp, "a column named in paper.columns", "the unknown column \"" + name + "\"");

@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
-# Fuzzes the scene-file loader and the glTF path with libFuzzer (clang-14, ASan + UBSan):
+# Fuzzes the scene-file loader, the glTF path, the lesson parser and the bench spec reader with
+# libFuzzer (clang-14, ASan + UBSan):
 #   scripts/fuzz.sh [seconds per target, default 60] [target...]
-# Builds build-fuzz/ (its own folder; only the loader's sources are compiled), seeds each corpus
-# from assets/ and tests/fuzz/regressions/, and runs each target for the given time. A crash
-# leaves its input in build-fuzz/artifacts/; copy it to tests/fuzz/regressions/<scene|gltf>/ with
+# Builds build-fuzz/ (its own folder; only the parsers' sources are instrumented), seeds each corpus
+# from assets/, lessons/ and tests/fuzz/regressions/, and runs each target for the given time. A crash
+# leaves its input in build-fuzz/artifacts/; copy it to tests/fuzz/regressions/<target>/ with
 # the fix, where the test FuzzRegressions.* replays it (docs/robustness.md). Exit 1 on a crash.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(scene gltf)
+[ ${#targets[@]} -eq 0 ] && targets=(scene gltf lesson bench)
 build="$root/build-fuzz"
 cc=clang-14 cxx=clang++-14
 command -v "$cxx" >/dev/null || { echo "fuzz.sh: $cxx not found (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 2; }
@@ -31,6 +32,8 @@ for t in "${targets[@]}"; do
     gltf) cp "$root"/assets/models/*.gltf "$seeds/" 2>/dev/null || true
           cp "$root"/assets/models/*.glb "$seeds/" 2>/dev/null || true
           cp "$root"/build/test-tmp/robustness/*/*.gltf "$seeds/" 2>/dev/null || true ;;
+    lesson) cp "$root"/lessons/*.md "$seeds/" ;;
+    bench) cp "$root"/assets/bench/*.json "$root"/assets/figures/*.json "$seeds/" ;;
   esac
   cp "$root/tests/fuzz/regressions/$t"/* "$seeds/" 2>/dev/null || true
   [ -f "$root/tests/fuzz/$t.dict" ] && dict=(-dict="$root/tests/fuzz/$t.dict") || dict=()
