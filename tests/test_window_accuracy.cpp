@@ -22,7 +22,7 @@ TEST(WindowAccuracy, EverySettingTriedIsAPointAndTheCurrentOneMatchesTheMetrics)
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run is not installed";
     std::string json = tmp("points.json"), vis = tmp("v.pfm"), ref = tmp("r.pfm"), scriptPath = tmp("s.txt");
     for (const std::string& f : {json, vis, ref}) std::filesystem::remove(f);
-    std::ofstream(scriptPath) << "panel off\ntechnique pcf\nreference-samples 16\nwait-reference\nwait 2\naccuracy on\n"
+    std::ofstream(scriptPath) << "panel off\naccuracy on\ntechnique pcf\nreference-samples 16\nwait-reference\nwait 2\n"
                                  "param pcf_kernel 9\nwait 3\ntechnique hard\nwait 3\ntechnique pcf\nwait 3\n"
                                  "save-accuracy " << json << "\nsave-visibility " << vis << "\nsave-reference " << ref << "\n";
     std::string command = "xvfb-run -a -s '-screen 0 800x600x24' " + std::string(SHADOWLAB_BINARY) +
