@@ -119,7 +119,7 @@ TEST(LessonFormat, CommandLineRefusesABadLessonWithExitCode2AndWritesNothing) {
     EXPECT_FALSE(fs::exists(out)) << "nothing is written for a bad lesson";
     r = test::run("lesson nonexistent --check");
     EXPECT_EQ(r.code, 2);
-    EXPECT_NE(r.output.find("unknown lesson 'nonexistent' (lessons: intro, pcss-sssm, shadow-mapping"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("unknown lesson 'nonexistent' (lessons: backprojection, intro, pcss-sssm, shadow-mapping"), std::string::npos) << r.output;
 }
 
 // ---- states ---------------------------------------------------------------------------------------
@@ -154,7 +154,7 @@ TEST(LessonState, AnswerStateIsTheStepStatePlusTheAnswer) {
 }
 
 TEST(LessonState, BothLessonsLoadWithTasks) {
-    for (const std::string& id : {"intro", "shadow-mapping", "pcss-sssm"}) {
+    for (const std::string& id : {"intro", "shadow-mapping", "pcss-sssm", "backprojection"}) {
         Lesson l = loadLesson(id);
         EXPECT_EQ(l.file, "lessons/" + id + ".md");
         EXPECT_GE(l.steps.size(), 6u) << id;
@@ -518,8 +518,9 @@ void renderHeadless(const std::string& id) {
 TEST(LessonHeadless, IntroRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("intro"); }
 TEST(LessonHeadless, ShadowMappingRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("shadow-mapping"); }
 TEST(LessonHeadless, PcssSssmRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("pcss-sssm"); }
+TEST(LessonHeadless, BackprojectionRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("backprojection"); }
 TEST(LessonHeadless, EveryLessonHasAHeadlessTest) {
-    EXPECT_EQ(listLessons(), (std::vector<std::string>{"intro", "pcss-sssm", "shadow-mapping"}))
+    EXPECT_EQ(listLessons(), (std::vector<std::string>{"backprojection", "intro", "pcss-sssm", "shadow-mapping"}))
         << "a new lesson needs its own LessonHeadless test above";
 }
 
