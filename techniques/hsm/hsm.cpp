@@ -354,4 +354,29 @@ std::vector<std::string> backprojectionRecordReads() {
     return reads;
 }
 
+void BackprojectionVisibilityPass::execute(PassContext& ctx) {
+    Texture& visibility = ctx.texture("visibility");
+    if (fboTexture_ != visibility.id()) {
+        fbo_ = Framebuffer({&visibility}, nullptr);
+        fboTexture_ = visibility.id();
+    }
+    const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", shader_);
+    program.use();
+    const Texture& map = ctx.texture(shadowTestMap(ctx));
+    setReceiverUniforms(ctx, program, map.width());
+    glBindTextureUnit(3, map.id());
+    program.set("shadowMap", 3);
+    glBindTextureUnit(4, ctx.texture("kernel_size").id());
+    program.set("kernelSize", 4);
+    glBindTextureUnit(5, ctx.texture("classification").id());
+    program.set("classification", 5);
+    program.set("lightShape", bpLightShape(ctx.light()));
+    program.set("lightHalfSize", bpLightHalfSize(ctx.light()));
+    program.set("maxKernelTexels", float(ctx.param("max_kernel")));
+    if (extra_) extra_(ctx, program);
+    fbo_.bind(ctx.width(), ctx.height());
+    drawFullscreenTriangle();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
 }  // namespace shadowlab

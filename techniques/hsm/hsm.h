@@ -4,6 +4,7 @@
 // lit / umbra / penumbra classification; and the CPU mirror of all of it that the per-pixel records
 // (--pixel) run on the same shared functions as the shaders (shaders/shared/backprojection.glsl).
 #pragma once
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "shadow_map.h"
@@ -30,6 +31,23 @@ int bpLightShape(const Light& light);
 float bpLightHalfSize(const Light& light);
 // Uniforms of shaders/backprojection/receiver.glsl, and the G-buffer on units 0-2.
 void setReceiverUniforms(PassContext& ctx, const ShaderProgram& program, int smSize);
+
+// The visibility pass of both techniques: a full-screen `shader` (backprojection/gbp06.frag or
+// contour.frag) over the receiver, the shadow map, the kernel and the classification; `extra` sets
+// a technique's own uniforms (contour's t).
+class BackprojectionVisibilityPass : public Pass {
+public:
+    using Uniforms = std::function<void(PassContext&, const ShaderProgram&)>;
+    BackprojectionVisibilityPass(std::string shader, Uniforms extra = {})
+        : shader_(std::move(shader)), extra_(std::move(extra)) {}
+    void execute(PassContext& ctx) override;
+
+private:
+    std::string shader_;
+    Uniforms extra_;
+    Framebuffer fbo_;
+    GLuint fboTexture_ = 0;
+};
 
 // ---- the CPU mirror (per-pixel records) ----------------------------------------------------------
 

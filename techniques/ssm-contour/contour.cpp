@@ -11,38 +11,6 @@ using namespace shared;
 
 namespace {
 
-class ContourVisibilityPass : public Pass {
-public:
-    void execute(PassContext& ctx) override {
-        Texture& visibility = ctx.texture("visibility");
-        if (fboTexture_ != visibility.id()) {
-            fbo_ = Framebuffer({&visibility}, nullptr);
-            fboTexture_ = visibility.id();
-        }
-        const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "backprojection/contour.frag");
-        program.use();
-        const Texture& map = ctx.texture(shadowTestMap(ctx));
-        setReceiverUniforms(ctx, program, map.width());
-        glBindTextureUnit(3, map.id());
-        program.set("shadowMap", 3);
-        glBindTextureUnit(4, ctx.texture("kernel_size").id());
-        program.set("kernelSize", 4);
-        glBindTextureUnit(5, ctx.texture("classification").id());
-        program.set("classification", 5);
-        program.set("lightShape", bpLightShape(ctx.light()));
-        program.set("lightHalfSize", bpLightHalfSize(ctx.light()));
-        program.set("maxKernelTexels", float(ctx.param("max_kernel")));
-        program.set("contourT", float(ctx.param("t")));
-        fbo_.bind(ctx.width(), ctx.height());
-        drawFullscreenTriangle();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    }
-
-private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
-};
-
 // One block's edges, as contour.frag computes them: the 3D extremities (texel coordinates and the
 // holders' depths) and their back-projections onto the light.
 struct BlockEdge {
@@ -174,7 +142,11 @@ const TechniqueDesc& ssmContourTechnique() {
         visibility.reads.push_back("param:t");
         visibility.creates = {visibilityResource()};
         visibility.soft = true;
-        visibility.create = [] { return std::make_unique<ContourVisibilityPass>(); };
+        visibility.create = [] {
+            return std::make_unique<BackprojectionVisibilityPass>(
+                "backprojection/contour.frag",
+                [](PassContext& ctx, const ShaderProgram& p) { p.set("contourT", float(ctx.param("t"))); });
+        };
         d.passes = {shadowMapPass(), hsmPass(), kernelPass(), visibility};
         d.internals = backprojectionInternals();
         d.internals.push_back(contourPixelRecord());

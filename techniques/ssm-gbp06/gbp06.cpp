@@ -11,37 +11,6 @@ using namespace shared;
 
 namespace {
 
-class Gbp06VisibilityPass : public Pass {
-public:
-    void execute(PassContext& ctx) override {
-        Texture& visibility = ctx.texture("visibility");
-        if (fboTexture_ != visibility.id()) {
-            fbo_ = Framebuffer({&visibility}, nullptr);
-            fboTexture_ = visibility.id();
-        }
-        const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "backprojection/gbp06.frag");
-        program.use();
-        const Texture& map = ctx.texture(shadowTestMap(ctx));
-        setReceiverUniforms(ctx, program, map.width());
-        glBindTextureUnit(3, map.id());
-        program.set("shadowMap", 3);
-        glBindTextureUnit(4, ctx.texture("kernel_size").id());
-        program.set("kernelSize", 4);
-        glBindTextureUnit(5, ctx.texture("classification").id());
-        program.set("classification", 5);
-        program.set("lightShape", bpLightShape(ctx.light()));
-        program.set("lightHalfSize", bpLightHalfSize(ctx.light()));
-        program.set("maxKernelTexels", float(ctx.param("max_kernel")));
-        fbo_.bind(ctx.width(), ctx.height());
-        drawFullscreenTriangle();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    }
-
-private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
-};
-
 // The sample quad of texel t at depth z back-projected from r, with GBP06's gap filling: the same
 // steps as shaders/backprojection/gbp06.frag. Returns (x0, y0, x1, y1) in light coordinates and
 // whether the right and top sides were extended.
@@ -130,7 +99,7 @@ const TechniqueDesc& ssmGbp06Technique() {
         visibility.reads = backprojectionVisibilityReads();
         visibility.creates = {visibilityResource()};
         visibility.soft = true;
-        visibility.create = [] { return std::make_unique<Gbp06VisibilityPass>(); };
+        visibility.create = [] { return std::make_unique<BackprojectionVisibilityPass>("backprojection/gbp06.frag"); };
         d.passes = {shadowMapPass(), hsmPass(), kernelPass(), visibility};
         d.internals = backprojectionInternals();
         d.internals.push_back(gbp06PixelRecord());
