@@ -14,109 +14,37 @@
 #include "gl_fixture.h"
 #include "renderer.h"
 #include "scene.h"
+#include "hard_case_util.h"
 #include "shared/shared.h"
 
 namespace shadowlab {
 namespace {
 
-using Sets = std::vector<std::pair<std::string, std::string>>;
+using namespace hardcase;
 using namespace shared;
 
 const char* const kSoft[] = {"pcss", "sssm", "ssm-gbp06", "ssm-contour"};
 constexpr int kSize = 40;
 
 std::string writeScene(const std::string& name, const std::string& text) {
-    const std::filesystem::path dir = std::filesystem::path(SHADOWLAB_TEST_TMP) / "hard-cases-soft";
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / (name + ".json")).string();
-    std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
-    return path;
+    return hardcase::writeScene("hard-cases-soft", name, text);
 }
 
-struct Render {
-    Image visibility, positions, ids, image;
-    double seconds = 0.0;
-};
-
-Render render(const Scene& scene, const std::string& technique, std::optional<float> lightSize = {}, Sets sets = {},
-              int size = kSize) {
-    RenderOptions options;
-    options.width = options.height = size;
-    options.technique = technique;
+// The four at a small shadow map (sm_size 256) unless the sets say otherwise; light size first.
+Render renderSoft(const Scene& scene, const std::string& technique, std::optional<float> lightSize = {}, Sets sets = {},
+                  int size = kSize) {
     if (technique != "raytraced" && technique != "reference") sets.insert(sets.begin(), {"sm_size", "256"});
-    options.sets = sets;
-    options.lightSize = lightSize;
-    const auto t0 = std::chrono::steady_clock::now();
-    Renderer renderer(scene, options);
-    renderer.renderFrame(0, {"visibility", "gbuffer", "image"});
-    Render r{renderer.visibility(), renderer.positions(), renderer.ids(), renderer.image()};
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return r;
+    return hardcase::render(scene, technique, sets, lightSize, size);
 }
 
-void expectInvariants(const Render& r, const std::string& what) {
-    size_t bad = 0;
-    for (float v : r.visibility.data) bad += !(v >= 0.0f && v <= 1.0f);
-    EXPECT_EQ(bad, 0u) << what << ": visibility outside [0, 1] or NaN";
-    bad = 0;
-    for (float c : r.image.data) bad += !std::isfinite(c);
-    EXPECT_EQ(bad, 0u) << what << ": image has NaN/Inf";
-    bad = 0;
-    for (size_t i = 0; i < r.ids.data.size(); ++i) {
-        if (r.ids.data[i] < 0.0f) continue;
-        for (int k = 0; k < 3; ++k) bad += !std::isfinite(r.positions.data[i * 3 + k]);
-    }
-    EXPECT_EQ(bad, 0u) << what << ": positions of geometry pixels have NaN/Inf";
-}
-
-// square-occluder (DESIGN.md section 5) scaled by s; the plate's half size and height can move.
-std::string squareOccluder(double s, double plateHalf = 0.5, double plateY = 2.0, double lightWidth = 1.0) {
-    char buffer[4096];
-    std::snprintf(buffer, sizeof buffer, R"({
-      "camera": {"position": [0, %.9g, %.9g], "target": [0, 0, %.9g], "fov_deg": 40, "near": %.9g, "far": %.9g},
-      "lights": [{"type": "square", "position": [0, %.9g, 0], "direction": [0, -1, 0], "up": [0, 0, -1], "width": %.9g}],
-      "objects": [
-        {"name": "floor", "id": 0, "type": "quad", "size": [%.9g, %.9g], "casts_shadows": false},
-        {"name": "plate", "id": 1, "type": "box", "size": [%.9g, %.9g, %.9g], "transform": {"translate": [0, %.9g, 0]}}
-      ]})",
-                  5.5 * s, 6.5 * s, 0.3 * s, 0.1 * s, 50.0 * s, 4 * s, lightWidth * s, 8 * s, 8 * s, 2 * plateHalf * s,
-                  0.001 * s, 2 * plateHalf * s, plateY * s);
-    return buffer;
-}
-
-double closedFormRmse(const Render& r, double s, float plateHalf = 0.5f, float plateY = 2.0f, float lightWidth = 1.0f) {
-    double sum = 0.0;
+// The closed form's RMSE over the floor, infinite when fewer than 200 floor pixels show (a case
+// whose camera lost the floor must fail, not pass on no pixels).
+double closedFormRmseSoft(const Render& r, double s, float plateHalf = 0.5f, float plateY = 2.0f, float lightWidth = 1.0f) {
     size_t n = 0;
-    for (size_t i = 0; i < r.ids.data.size(); ++i) {
-        if (r.ids.data[i] != 0.0f) continue;
-        const glm::vec3 p(float(r.positions.data[i * 3] / s), 0.0f, float(r.positions.data[i * 3 + 2] / s));
-        const double d = r.visibility.data[i] - squareOccluderVisibility(p, plateHalf, plateY, 4.0f, lightWidth);
-        sum += d * d;
-        ++n;
-    }
-    return n > 200 ? std::sqrt(sum / double(n)) : INFINITY;
+    double rmse = hardcase::closedFormRmse(r, s, plateHalf, plateY, lightWidth, &n);
+    return n > 200 ? rmse : INFINITY;
 }
 
-double floorMeanAbs(const Render& a, const Render& b) {
-    double sum = 0.0;
-    size_t n = 0;
-    for (size_t i = 0; i < a.ids.data.size(); ++i) {
-        if (a.ids.data[i] != 0.0f) continue;
-        sum += std::abs(a.visibility.data[i] - b.visibility.data[i]);
-        ++n;
-    }
-    return n ? sum / double(n) : INFINITY;
-}
-
-double floorAgreement(const Render& a, const Render& b, float tol) {
-    size_t same = 0, n = 0;
-    for (size_t i = 0; i < a.ids.data.size(); ++i) {
-        if (a.ids.data[i] != 0.0f || b.ids.data[i] != 0.0f) continue;
-        ++n;
-        same += std::abs(a.visibility.data[i] - b.visibility.data[i]) <= tol;
-    }
-    return n ? double(same) / double(n) : 0.0;
-}
 
 class HardCaseSoft : public testing::GLTest {};
 
@@ -124,9 +52,9 @@ class HardCaseSoft : public testing::GLTest {};
 // search width, no penumbra, no back-projected area: each falls back to the hard test).
 TEST_F(HardCaseSoft, LightSizeZeroIsExactlyHard) {
     const Scene scene = loadScene(writeScene("so", squareOccluder(1.0)));
-    const Render hard = render(scene, "hard", 0.0f);
+    const Render hard = renderSoft(scene, "hard", 0.0f);
     for (const char* t : kSoft) {
-        const Render r = render(scene, t, 0.0f);
+        const Render r = renderSoft(scene, t, 0.0f);
         expectInvariants(r, t);
         EXPECT_EQ(r.visibility.data, hard.visibility.data) << t;
     }
@@ -140,11 +68,11 @@ TEST_F(HardCaseSoft, LightSizeZeroIsExactlyHard) {
 // absolute for the exact zeros), and w = 0.4 is already within 0.03 of hard.
 TEST_F(HardCaseSoft, LightSizeToZeroConvergesToHard) {
     const Scene scene = loadScene(writeScene("so", squareOccluder(1.0)));
-    const Render hard = render(scene, "hard");
+    const Render hard = renderSoft(scene, "hard");
     for (const char* t : kSoft) {
         double previous = -1.0;
         for (float w : {0.4f, 0.2f, 0.1f, 0.05f}) {
-            const Render r = render(scene, t, w);
+            const Render r = renderSoft(scene, t, w);
             expectInvariants(r, t);
             const double d = floorMeanAbs(r, hard);
             if (previous < 0.0) EXPECT_LT(d, 0.03) << t;
@@ -160,9 +88,9 @@ TEST_F(HardCaseSoft, LightSizeToZeroConvergesToHard) {
 TEST_F(HardCaseSoft, OccluderTouchingTheReceiver) {
     const Scene scene = loadScene(writeScene("touch", squareOccluder(1.0, 0.5, 1e-3)));
     for (const char* t : kSoft) {
-        const Render r = render(scene, t);
+        const Render r = renderSoft(scene, t);
         expectInvariants(r, t);
-        EXPECT_LT(closedFormRmse(r, 1.0, 0.5f, 1e-3f), 0.01) << t;
+        EXPECT_LT(closedFormRmseSoft(r, 1.0, 0.5f, 1e-3f), 0.01) << t;
     }
 }
 
@@ -176,9 +104,9 @@ TEST_F(HardCaseSoft, OccluderAlmostAtTheLight) {
     const Scene scene = loadScene(writeScene("near-light", squareOccluder(1.0, 0.5, 3.99)));
     for (const char* t : kSoft) {
         for (const char* sm : {"256", "1024"}) {
-            const Render r = render(scene, t, {}, {{"sm_size", sm}});
+            const Render r = renderSoft(scene, t, {}, {{"sm_size", sm}});
             expectInvariants(r, t);
-            EXPECT_LT(closedFormRmse(r, 1.0, 0.5f, 3.99f), 0.02) << t << " sm_size " << sm;
+            EXPECT_LT(closedFormRmseSoft(r, 1.0, 0.5f, 3.99f), 0.02) << t << " sm_size " << sm;
             EXPECT_LT(r.seconds, 20.0) << t << " sm_size " << sm;
         }
     }
@@ -188,10 +116,10 @@ TEST_F(HardCaseSoft, OccluderAlmostAtTheLight) {
 // technique keeps the invariants; at light size 0 each equals hard on >= 99% of geometry pixels.
 TEST_F(HardCaseSoft, GrazingReceivers) {
     const Scene scene = loadScene("grazing");
-    const Render hard = render(scene, "hard", 0.0f);
+    const Render hard = renderSoft(scene, "hard", 0.0f);
     for (const char* t : kSoft) {
-        expectInvariants(render(scene, t), t);
-        const Render r = render(scene, t, 0.0f);
+        expectInvariants(renderSoft(scene, t), t);
+        const Render r = renderSoft(scene, t, 0.0f);
         expectInvariants(r, t);
         size_t same = 0, n = 0;
         for (size_t i = 0; i < r.ids.data.size(); ++i) {
@@ -209,14 +137,14 @@ TEST_F(HardCaseSoft, GrazingReceivers) {
 // three scales: pcss 0.0113, sssm 0.0348, ssm-gbp06 0.0088, ssm-contour 0.0087.
 TEST_F(HardCaseSoft, SquareOccluderClosedFormAtEveryScale) {
     for (const char* t : kSoft) {
-        const Render r1 = render(loadScene(writeScene("s1", squareOccluder(1.0))), t);
+        const Render r1 = renderSoft(loadScene(writeScene("s1", squareOccluder(1.0))), t);
         expectInvariants(r1, t);
-        const double e1 = closedFormRmse(r1, 1.0);
+        const double e1 = closedFormRmseSoft(r1, 1.0);
         EXPECT_LT(e1, std::string(t) == "sssm" ? 0.05 : 0.02) << t;
         for (double s : {1e-3, 1e4}) {
-            const Render r = render(loadScene(writeScene("ss", squareOccluder(s))), t);
+            const Render r = renderSoft(loadScene(writeScene("ss", squareOccluder(s))), t);
             expectInvariants(r, t);
-            EXPECT_NEAR(closedFormRmse(r, s), e1, 0.003) << t << " scale " << s;
+            EXPECT_NEAR(closedFormRmseSoft(r, s), e1, 0.003) << t << " scale " << s;
         }
     }
 }
@@ -227,7 +155,7 @@ TEST_F(HardCaseSoft, MonotoneAsTheOccluderGrows) {
     for (const char* t : kSoft) {
         Render previous;
         for (double half : {0.3, 0.5, 0.7}) {
-            const Render r = render(loadScene(writeScene("grow", squareOccluder(1.0, half))), t);
+            const Render r = renderSoft(loadScene(writeScene("grow", squareOccluder(1.0, half))), t);
             expectInvariants(r, t);
             if (!previous.visibility.data.empty()) {
                 size_t brighter = 0;
