@@ -23,8 +23,12 @@ namespace shadowlab::hardcase {
 using Sets = std::vector<std::pair<std::string, std::string>>;
 using namespace shared;
 
+// Each test writes into its own folder: ctest runs tests in parallel processes, and two tests
+// writing the same name ("so.json") would read each other's half-written file.
 inline std::string writeScene(const std::string& folder, const std::string& name, const std::string& text) {
-    const std::filesystem::path dir = std::filesystem::path(SHADOWLAB_TEST_TMP) / folder;
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::filesystem::path dir = std::filesystem::path(SHADOWLAB_TEST_TMP) / folder;
+    if (test) dir /= std::string(test->test_suite_name()) + "." + test->name();
     std::filesystem::create_directories(dir);
     const std::string path = (dir / (name + ".json")).string();
     std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
