@@ -30,6 +30,11 @@ struct ReferenceSpec {
 // "raytraced", "raytraced:256", "reference:1024" (InputError naming `where` otherwise).
 ReferenceSpec parseReferenceSpec(const std::string& text, const std::string& where);
 
+class JsonReader;
+// A parameter value in a bench or figure spec as --set text: numbers as "%.9g", booleans
+// true/false, enum names as written; anything else fails naming `path` (InputError).
+std::string specValueText(const JsonReader& r, const nlohmann::json& v, const std::string& path);
+
 // A reference visibility buffer, computed once and cached on disk in `cacheDir` by a key over
 // everything that decides it: the scene (name and file contents), the size, the light (after
 // --light-size) and the reference settings. The key and its fields are in the cached PFM's

@@ -11,19 +11,14 @@
 
 namespace shadowlab {
 
-namespace {
-
 using json = nlohmann::json;
 
-// A parameter value of a spec as --set text: numbers as "%.9g", booleans true/false, enum names.
-std::string valueText(const JsonReader& r, const json& v, const std::string& path) {
+std::string specValueText(const JsonReader& r, const nlohmann::json& v, const std::string& path) {
     if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
     if (v.is_string()) return v.get<std::string>();
     if (v.is_number()) return formatNumber(r.number(v, path));
     r.fail(path, "a number, true/false or an enum name", describeJson(v));
 }
-
-}  // namespace
 
 bool paperRowMatches(const PaperRow& row, const std::string& scene, double lightSize, const std::string& technique,
                      const nlohmann::json& parameters) {
@@ -158,7 +153,7 @@ BenchSpec loadBenchSpec(const std::string& path) {
                 if (!set->is_object()) r.fail(f.path("set"), "an object {key: value}", describeJson(*set));
                 for (const auto& [key, v] : set->items()) {
                     const std::string kp = fieldPath(f.path("set"), key);
-                    std::string text = valueText(r, v, kp);
+                    std::string text = specValueText(r, v, kp);
                     check.set(*desc, key, text, r.place(kp));
                     run.fixed.push_back({key, text});
                 }
@@ -173,7 +168,7 @@ BenchSpec loadBenchSpec(const std::string& path) {
                     if (v.is_string()) {
                         values = expandRange(v.get<std::string>(), r.place(kp), pd->type != ParamDesc::Type::Float);
                     } else if (v.is_array() && !v.empty()) {
-                        for (size_t k = 0; k < v.size(); ++k) values.push_back(valueText(r, v[k], elementPath(kp, k)));
+                        for (size_t k = 0; k < v.size(); ++k) values.push_back(specValueText(r, v[k], elementPath(kp, k)));
                     } else {
                         r.fail(kp, "a non-empty array of values or a range \"a:b:n\"", describeJson(v));
                     }
@@ -246,7 +241,7 @@ BenchSpec loadBenchSpec(const std::string& path) {
                 const TechniqueDesc* d = findTechnique(row.technique);
                 for (const auto& [key, v] : params->items()) {
                     const std::string kp = fieldPath(f.path("params"), key);
-                    std::string text = valueText(r, v, kp);
+                    std::string text = specValueText(r, v, kp);
                     if (d) {
                         ParamValues pv(*d);
                         pv.set(*d, key, text, r.place(kp));

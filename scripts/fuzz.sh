@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Fuzzes the scene-file loader, the glTF path, the lesson parser and the bench spec reader with
+# Fuzzes the scene-file loader, the glTF path, the lesson parser and the bench and figure spec readers with
 # libFuzzer (clang-14, ASan + UBSan):
-#   scripts/fuzz.sh [seconds per target, default 60] [target...]
+#   scripts/fuzz.sh [seconds per target, default 60] [scene|gltf|lesson|bench|figure...]
 # Builds build-fuzz/ (its own folder; only the parsers' sources are instrumented), seeds each corpus
 # from assets/, lessons/ and tests/fuzz/regressions/, and runs each target for the given time. A crash
 # leaves its input in build-fuzz/artifacts/; copy it to tests/fuzz/regressions/<target>/ with
@@ -11,7 +11,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(scene gltf lesson bench)
+[ ${#targets[@]} -eq 0 ] && targets=(scene gltf lesson bench figure)
 build="$root/build-fuzz"
 cc=clang-14 cxx=clang++-14
 command -v "$cxx" >/dev/null || { echo "fuzz.sh: $cxx not found (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 2; }
@@ -34,6 +34,7 @@ for t in "${targets[@]}"; do
           cp "$root"/build/test-tmp/robustness/*/*.gltf "$seeds/" 2>/dev/null || true ;;
     lesson) cp "$root"/lessons/*.md "$seeds/" ;;
     bench) cp "$root"/assets/bench/*.json "$root"/assets/figures/*.json "$seeds/" ;;
+    figure) cp "$root"/assets/figures/*.json "$root"/assets/bench/*.json "$seeds/" ;;
   esac
   cp "$root/tests/fuzz/regressions/$t"/* "$seeds/" 2>/dev/null || true
   [ -f "$root/tests/fuzz/$t.dict" ] && dict=(-dict="$root/tests/fuzz/$t.dict") || dict=()

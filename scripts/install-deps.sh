@@ -8,7 +8,7 @@ PKGS=(
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev libimgui-dev
   libembree-dev libgtest-dev googletest
-  xvfb xauth
+  xvfb xauth ccache
 )
 missing=()
 for p in "${PKGS[@]}"; do
