@@ -202,7 +202,8 @@ TEST_F(BackprojectionRender, PixelRecordsAddUpToTheImage) {
                 const nlohmann::json& rec = all["lights"][0];
                 ASSERT_EQ(rec["technique"], technique);
                 ASSERT_FALSE(rec.contains("background"));
-                double area = rec["light"]["area"].get<double>();
+                EXPECT_EQ(rec["light"], 0);  // the light's index, not shadowed by the record's own fields
+                double area = rec["light_geometry"]["area"].get<double>();
                 double items = 0.0;
                 const char* list = std::string(technique) == "ssm-contour" ? "edges" : "samples";
                 const char* field = std::string(technique) == "ssm-contour" ? "signed_area" : "area";

@@ -10,6 +10,7 @@
 #include <vtkNew.h>
 
 #include <cmath>
+#include <fstream>
 
 #include "cli_run.h"
 #include "error.h"
@@ -65,6 +66,47 @@ TEST_F(BackprojectionView, VisibleFractionEqualsTheImageAndExportLoadsBack) {
     }
     EXPECT_GE(checked, 10);
     EXPECT_GE(withItems, 2);  // some pixels are in the penumbra: edges / samples drawn
+}
+
+// The per-pixel record of the back-projection techniques has its own "light_geometry" (shape,
+// area); it used to be called "light" and replaced the light's index the renderer merges under that
+// key, so ViewContext::pixelRecord() threw a json type_error for ssm-* (the shadow-map view with a
+// picked pixel failed), and the backprojection view took records by position, which is wrong when
+// a light before the picked one casts no shadow (its record is skipped). Both now find the record
+// by index: a scene whose light 0 casts no shadows and whose light 1 runs ssm-contour.
+TEST_F(BackprojectionView, RecordsAreFoundByLightIndex) {
+    const std::string path = test::testPath("viz", "two-lights.json");
+    std::ofstream(path) << R"({
+      "camera": {"position": [0, 5.5, 6.5], "target": [0, 0, 0.3], "fov_deg": 40},
+      "lights": [
+        {"type": "square", "position": [3, 4, 0], "direction": [0, -1, 0], "width": 1, "casts_shadows": false},
+        {"type": "square", "position": [0, 4, 0], "direction": [0, -1, 0], "up": [0, 0, -1], "width": 1}],
+      "objects": [
+        {"name": "floor", "id": 0, "type": "quad", "size": [8, 8], "casts_shadows": false},
+        {"name": "plate", "id": 1, "type": "box", "size": [1, 0.001, 1], "transform": {"translate": [0, 2, 0]}}]})";
+    Scene scene = loadScene(path);
+    RenderOptions o;
+    o.width = o.height = 96;
+    o.technique = "ssm-contour";
+    o.sets = {{"sm_size", "256"}};
+    Renderer renderer(scene, o);
+    renderer.renderFrame(0, {"visibility"});
+    const glm::ivec2 pixel(48, 60);
+    ASSERT_GE(renderer.ids().at(pixel.x, pixel.y), 0.0f);
+    for (const char* view : {"backprojection", "shadow-map"}) {
+        SCOPED_TRACE(view);
+        ViewRequest request;
+        request.view = view;
+        request.light = 1;
+        request.pixel = pixel;
+        request.width = 320;
+        request.height = 240;
+        ASSERT_EQ(viewRefusal(renderer, request), "");
+        ViewResult r;
+        ASSERT_NO_THROW(r = renderView(renderer, scene, request));
+        if (std::string(view) == "backprojection")
+            EXPECT_TRUE(r.data.contains("visible_fraction")) << r.data.dump();
+    }
 }
 
 TEST_F(BackprojectionView, TechniquesWithoutTheRecordAreRefused) {

@@ -54,11 +54,7 @@ glm::vec2 vec2(const nlohmann::json& j) { return {j.at(0).get<float>(), j.at(1).
 void build(ViewContext& ctx, ViewResult& result) {
     const LightState& l = ctx.light();
     const std::string list = recordList(l);
-    // The record's own "light" field (shape, area) hides the merged light index, so the entry is
-    // taken by position: "lights" lists the scene's lights in order.
-    const nlohmann::json all = ctx.pixelData();
-    nlohmann::json rec;
-    if (all.contains("lights") && all["lights"].size() > size_t(ctx.request.light)) rec = all["lights"][size_t(ctx.request.light)];
+    const nlohmann::json rec = ctx.pixelRecord();
     const glm::ivec2 px = *ctx.request.pixel;
     const std::string where = l.desc->id + ", L" + std::to_string(ctx.request.light) + ", pixel " +
                               std::to_string(px.x) + "," + std::to_string(px.y);
@@ -66,8 +62,8 @@ void build(ViewContext& ctx, ViewResult& result) {
         throw InputError("view backprojection: pixel " + std::to_string(px.x) + "," + std::to_string(px.y) +
                          " shows no geometry (background)");
     }
-    const bool disk = rec["light"].value("shape", "square") != "square";
-    const double lightArea = rec["light"].at("area").get<double>();
+    const bool disk = rec["light_geometry"].value("shape", "square") != "square";
+    const double lightArea = rec["light_geometry"].at("area").get<double>();
     const double initial = rec.value("initial_area", 0.0);
     const nlohmann::json items = rec.value(list, nlohmann::json::array());
     const bool edges = list == "edges";

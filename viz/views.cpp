@@ -122,7 +122,8 @@ nlohmann::json ViewContext::pixelRecord() const {
     nlohmann::json all = pixelData();
     if (all.is_null() || !all.contains("lights")) return nlohmann::json();
     for (const auto& l : all["lights"])
-        if (l.value("light", -1) == request.light) return l;
+        if (l.is_object() && l.contains("light") && l["light"].is_number_integer() && l["light"].get<int>() == request.light)
+            return l;
     return nlohmann::json();
 }
 

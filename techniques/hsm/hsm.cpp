@@ -284,7 +284,7 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel) {
     const BackprojectionCpu& c = s.cpu;
     s.receiver = c.receiver(glm::vec3(position), glm::vec3(normal));
     const BpReceiver& r = s.receiver;
-    j["light"] = {{"shape", c.shape == BP_LIGHT_SQUARE ? "square" : "disk"},
+    j["light_geometry"] = {{"shape", c.shape == BP_LIGHT_SQUARE ? "square" : "disk"},
                   {"area", bpLightArea(c.shape)},
                   {"unit_world", c.lightHalfSize},
                   {"coordinates", c.shape == BP_LIGHT_SQUARE ? "the light square is [-1,1]^2 (unit w_l / 2) on its right, up axes"
@@ -334,7 +334,7 @@ void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& s, 
 
 std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema() {
     return {{"background", "true when no geometry covers the pixel (then no other field)"},
-            {"light", "shape, area (4 for the square, pi for the disk, in light coordinates), unit and axes"},
+            {"light_geometry", "shape, area (4 for the square, pi for the disk, in light coordinates), unit and axes"},
             {"receiver", "p in the light frame (x, y, depth z_p), p' in shadow-map texels, depth bias (world)"},
             {"kernel", "global_min (top HSM level), texels (converged w_k, eq. 1), used_texels (after max_kernel), "
                        "iterations, steps [{level, texels [x0,y0,x1,y1] of that level, min, max, refined_texels}], "
