@@ -4,12 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 
 #include "cli_run.h"
 #include "error.h"
 #include "gl_fixture.h"
 #include "gl_util.h"
+#include "internals.h"
 #include "pcss/pcss.h"
 #include "renderer.h"
 #include "scene.h"
@@ -318,6 +321,61 @@ TEST_F(PcssRender, LiveParameterChangeEqualsAFreshRender) {
 }
 
 // ---- bad values ---------------------------------------------------------------------------------
+// The picked pixel's record shows what pcss fetched (the shadow-map view draws it): the blocker
+// search's square of 2 kernelRadius(search width) + 1 texels around the receiver's texel and, when
+// a blocker was found, the filter kernel's square, both from the pixel's own `blockers` values;
+// where no blocker was found, only the search (before: the receiver's texel alone, as for `hard`).
+TEST_F(PcssRender, PixelRecordShowsTheSearchAndFilterRegions) {
+    Scene scene = loadScene("square-occluder");
+    RenderOptions o;
+    o.width = o.height = 96;
+    o.technique = "pcss";
+    o.sets = {{"sm_size", "256"}};
+    Renderer renderer(scene, o);
+    renderer.renderFrame(0, renderer.internalRequests(true));
+    const Image v = renderer.visibility();
+    int penumbra = 0, noBlocker = 0;
+    for (int x = 4; x < 96; x += 4) {
+        const glm::ivec2 p(x, 60);
+        if (renderer.ids().at(p.x, p.y) < 0.0f) continue;
+        const std::string dir = std::string(SHADOWLAB_TEST_TMP) + "/pcss-record-" + std::to_string(x);
+        std::filesystem::create_directories(dir);
+        OutputSet outputs;
+        InternalWriter writer(dir, outputs);
+        renderer.writeInternals(writer, p);
+        outputs.commit();
+        std::ifstream in(dir + "/pixel.json");
+        const nlohmann::json all = nlohmann::json::parse(in);
+        const nlohmann::json& rec = all["lights"][0];
+        SCOPED_TRACE("pixel " + std::to_string(x) + ": " + rec.dump());
+        ASSERT_TRUE(rec.contains("blocker_search"));
+        const glm::ivec2 texel(rec["shadow_map_texel"][0].get<int>(), rec["shadow_map_texel"][1].get<int>());
+        auto width = [](const nlohmann::json& r) { return r[2].get<int>() - r[0].get<int>() + 1; };
+        const nlohmann::json& search = rec["blocker_search"]["texels"];
+        const int rs = shared::kernelRadius(rec["blocker_search"]["width_texels"].get<float>());
+        EXPECT_EQ(width(search), 2 * rs + 1);  // the map is 256: nothing clamps at this size
+        EXPECT_EQ(search[0].get<int>(), texel.x - rs);
+        EXPECT_EQ(search[1].get<int>(), texel.y - rs);
+        EXPECT_EQ(rec["texels_read"][0], search);
+        if (rec["filter"].is_null()) {
+            ++noBlocker;
+            EXPECT_EQ(rec["texels_read"].size(), 1u);
+            EXPECT_FLOAT_EQ(v.at(p.x, p.y), 1.0f);  // no blocker: lit
+            continue;
+        }
+        ASSERT_EQ(rec["texels_read"].size(), 2u);
+        const int rf = shared::kernelRadius(rec["filter"]["kernel_texels"].get<float>());
+        EXPECT_EQ(width(rec["filter"]["texels"]), 2 * rf + 1);
+        EXPECT_EQ(rec["texels_read"][1], rec["filter"]["texels"]);
+        if (v.at(p.x, p.y) > 0.02f && v.at(p.x, p.y) < 0.98f) {
+            ++penumbra;
+            EXPECT_GT(rf, 1);  // a penumbra pixel filters over more than its own texel
+        }
+    }
+    EXPECT_GE(penumbra, 2);
+    EXPECT_GE(noBlocker, 2);
+}
+
 TEST(PcssParams, BadValuesAreRefusedNamingTheRule) {
     for (const char* id : {"pcss", "sssm"}) {
         const TechniqueDesc& d = requireTechnique(id, "test");

@@ -7,6 +7,7 @@
 
 #include "../hard/hard.h"
 #include "error.h"
+#include "shadow_map.h"
 #include "shared/shared.h"
 
 namespace shadowlab {
@@ -185,6 +186,70 @@ ParamDesc filterKernelParam(const std::string& unit) {
     return m;
 }
 
+namespace {
+
+// The picked pixel's record (--pixel, the shadow-map view): hard's (the receiver's texel and depths),
+// with what pcss fetched instead of that one texel: the blocker search's square and, when it found
+// a blocker, the filter's kernel, as blocker_search.frag and filter.frag fetch them (texel
+// floor(uv size) + offset, clamped to the map; offsets in [-r, r]^2 with r = kernelRadius(width),
+// or Poisson taps inside the disk of diameter width, whose bounding square is recorded).
+InternalDesc pcssPixelRecord() {
+    InternalDesc r = shadowMapPixelRecord();
+    r.doc = "the picked pixel's shadow-map look-ups: the blocker search's region and the filter's (--pixel x,y)";
+    for (auto& [key, doc] : r.schema)
+        if (key == "texels_read")
+            doc = "rectangles [x0, y0, x1, y1] (inclusive, from the bottom) of the texels fetched: the blocker search's "
+                  "square, then the filter kernel's when a blocker was found (Poisson: the taps' bounding squares); "
+                  "empty outside the light's frustum (lit without a test)";
+    r.schema.push_back({"blocker_search", "width (texels, eq. of blockerSearchWidthTexels capped at n), blockers found, "
+                                          "their average depth z_avg (null: none) and the texel rectangle searched"});
+    r.schema.push_back({"filter", "the PCF kernel width (texels, from eq. 1, capped at m) and its texel rectangle; null "
+                                  "when no blocker was found (the pixel is lit without filtering)"});
+    r.reads.push_back("pcss_blockers");
+    r.reads.push_back("param:pattern");
+    auto hardRecord = r.record;
+    r.record = [hardRecord](PassContext& ctx, glm::ivec2 pixel) {
+        nlohmann::json j = hardRecord(ctx, pixel);
+        if (j.contains("background") || j["texels_read"].empty()) return j;
+        glm::vec4 b(0.0f);  // (z_avg, count, search width, kernel) of blocker_search.frag
+        glGetTextureSubImage(ctx.texture("pcss_blockers").id(), 0, pixel.x, ctx.height() - 1 - pixel.y, 0, 1, 1, 1, GL_RGBA,
+                             GL_FLOAT, sizeof b, &b);
+        const int size = ctx.texture(shadowTestMap(ctx)).width();
+        const glm::vec2 centre = glm::vec2(j["shadow_map_uv"][0].get<float>(), j["shadow_map_uv"][1].get<float>()) * float(size);
+        const bool poisson = ctx.paramChoice("pattern") == "poisson";
+        auto rect = [&](float width) {
+            glm::ivec2 lo, hi;
+            if (poisson) {
+                lo = glm::ivec2(glm::floor(centre - 0.5f * width));
+                hi = glm::ivec2(glm::floor(centre + 0.5f * width));
+            } else {
+                const int radius = shared::kernelRadius(width);
+                lo = glm::ivec2(glm::floor(centre)) - radius;
+                hi = glm::ivec2(glm::floor(centre)) + radius;
+            }
+            lo = glm::clamp(lo, glm::ivec2(0), glm::ivec2(size - 1));
+            hi = glm::clamp(hi, glm::ivec2(0), glm::ivec2(size - 1));
+            return nlohmann::json{lo.x, lo.y, hi.x, hi.y};
+        };
+        const bool found = b.x >= 0.0f;
+        j["blocker_search"] = {{"width_texels", b.z},
+                               {"blockers_found", b.y},
+                               {"average_blocker_depth", found ? nlohmann::json(b.x) : nlohmann::json(nullptr)},
+                               {"texels", rect(b.z)}};
+        j["texels_read"] = nlohmann::json::array({rect(b.z)});
+        if (found) {
+            j["filter"] = {{"kernel_texels", b.w}, {"texels", rect(b.w)}};
+            j["texels_read"].push_back(rect(b.w));
+        } else {
+            j["filter"] = nullptr;
+        }
+        return j;
+    };
+    return r;
+}
+
+}  // namespace
+
 const TechniqueDesc& pcssTechnique() {
     static const TechniqueDesc desc = [] {
         TechniqueDesc d;
@@ -245,7 +310,7 @@ const TechniqueDesc& pcssTechnique() {
         blockers.doc = "per pixel: average blocker depth z_avg (world, -1 = no blocker), blockers found, blocker-search "
                        "width and PCF kernel width (texels)";
         d.internals.push_back(blockers);
-        d.internals.push_back(shadowMapPixelRecord());
+        d.internals.push_back(pcssPixelRecord());
         return d;
     }();
     return desc;
