@@ -144,8 +144,41 @@ TEST_F(BackprojectionView, HsmMarksTheKernelStepsOfTheRecord) {
         }
     }
     EXPECT_NE(r.caption.find("steps"), std::string::npos);
+    // The crop (level-0 texels) keeps every step's texels in view.
+    const auto& crop = r.data["crop"];
+    for (const auto& s : r.data["steps"]) {
+        const double scale = std::ldexp(1.0, s["level"].get<int>());
+        EXPECT_LE(crop[0].get<double>(), s["texels"][0].get<double>() * scale) << s.dump();
+        EXPECT_LE(crop[1].get<double>(), s["texels"][1].get<double>() * scale) << s.dump();
+        EXPECT_GE(crop[2].get<double>(), (s["texels"][2].get<double>() + 1) * scale) << s.dump();
+        EXPECT_GE(crop[3].get<double>(), (s["texels"][3].get<double>() + 1) * scale) << s.dump();
+    }
     Renderer pcf(scene, [] { RenderOptions p; p.width = 64; p.height = 64; p.technique = "pcf"; return p; }());
     EXPECT_NE(viewRefusal(pcf, request).find("no min/max pyramid"), std::string::npos);
+}
+
+// On plant the casters cover a quarter of the map's width: every level is cropped to the square
+// around them (the note of issue 10: the levels were unreadable at full size), which still holds
+// every caster texel of HSM level 1 and the picked pixel's kernel.
+TEST_F(BackprojectionView, HsmCropsToTheCasters) {
+    Scene scene = loadScene("plant");
+    RenderOptions o;
+    o.width = 160;
+    o.height = 120;
+    o.technique = "ssm-contour";
+    o.sets = {{"sm_size", "512"}};
+    Renderer renderer(scene, o);
+    ViewRequest request;
+    request.view = "hsm";
+    request.pixel = glm::ivec2(80, 100);
+    request.width = 320;
+    request.height = 240;
+    ViewResult r = renderView(renderer, scene, request);
+    const auto& crop = r.data["crop"];
+    const double side = crop[2].get<double>() - crop[0].get<double>();
+    EXPECT_LT(side, 0.6 * 512) << crop.dump();
+    EXPECT_NEAR(crop[3].get<double>() - crop[1].get<double>(), side, 1e-9);  // square, as the levels are
+    EXPECT_NE(r.caption.find("shown (the casters)"), std::string::npos) << r.caption;
 }
 
 }  // namespace

@@ -3,14 +3,18 @@
 // to the same footprint; with a picked pixel, the texels the kernel refinement read at each step
 // (the per-pixel record's kernel.steps[{level, texels [x0,y0,x1,y1] from the bottom}]) outlined on
 // their level, one colour per step, and the converged kernel (kernel.texel_range, level-0 texels)
-// outlined under the stack. Reads the `hsm` pyramid internal and the per-pixel record only.
+// outlined under the stack. Every level is cropped to the same square around the casters (and the
+// kernel), since casters often fill a corner of the map. Reads the `hsm` pyramid internal and the
+// per-pixel record only.
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellData.h>
 #include <vtkDataSetMapper.h>
+#include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
 #include <vtkProperty.h>
+#include <vtkRectilinearGrid.h>
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
 #include <vtkTextActor.h>
@@ -37,20 +41,28 @@ std::string refusal(const Renderer& renderer, const ViewRequest& request) {
     return "";
 }
 
-// HSM level `hsmLevel` (its texels cover 2^hsmLevel level-0 texels) as a grid of cells at height z.
+// Cells [c.x, c.z] x [c.y, c.w] (inclusive, from the bottom) of an HSM level whose texels cover
+// `scale` level-0 texels, as a grid at height z in level-0 texel coordinates shifted by x0, its
+// outer cells cut at the crop (a coarse level's one cell may span the whole map).
 vtkSmartPointer<vtkActor> levelActor(const Image& level, int channel, vtkLookupTable* lut, double scale, double z,
-                                     double x0) {
-    vtkNew<vtkImageData> grid;
-    grid->SetDimensions(level.width + 1, level.height + 1, 1);
-    grid->SetSpacing(scale, scale, 1.0);
-    grid->SetOrigin(x0, 0.0, z);
+                                     double x0, glm::ivec4 c, const glm::dvec4& crop) {
+    const int w = c.z - c.x + 1, h = c.w - c.y + 1;
+    vtkNew<vtkRectilinearGrid> grid;
+    grid->SetDimensions(w + 1, h + 1, 1);
+    vtkNew<vtkDoubleArray> xs, ys, zs;
+    for (int i = 0; i <= w; ++i) xs->InsertNextValue(x0 + std::clamp((c.x + i) * scale, crop.x, crop.z));
+    for (int j = 0; j <= h; ++j) ys->InsertNextValue(std::clamp((c.y + j) * scale, crop.y, crop.w));
+    zs->InsertNextValue(z);
+    grid->SetXCoordinates(xs);
+    grid->SetYCoordinates(ys);
+    grid->SetZCoordinates(zs);
     vtkNew<vtkFloatArray> values;
     values->SetName("depth");
-    values->SetNumberOfTuples(vtkIdType(level.pixelCount()));
-    for (int y = 0; y < level.height; ++y)
-        for (int x = 0; x < level.width; ++x) {
-            float v = level.at(x, level.height - 1 - y, channel);
-            values->SetValue(vtkIdType(y) * level.width + x, std::isfinite(v) ? v : NAN);
+    values->SetNumberOfTuples(vtkIdType(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float v = level.at(c.x + x, level.height - 1 - (c.y + y), channel);
+            values->SetValue(vtkIdType(y) * w + x, std::isfinite(v) ? v : NAN);
         }
     grid->GetCellData()->SetScalars(values);
     vtkNew<vtkDataSetMapper> mapper;
@@ -62,6 +74,39 @@ vtkSmartPointer<vtkActor> levelActor(const Image& level, int channel, vtkLookupT
     actor->SetMapper(mapper);
     actor->GetProperty()->LightingOff();
     return actor;
+}
+
+// The part of the map worth showing, in level-0 texels [x0, x1) x [y0, y1) from the bottom: where
+// HSM level 1 holds a caster (finite min depth), grown to hold `marks` (the kernel's steps and
+// range) and padded by an eighth of its size (at least 4 texels), aligned to the coarsest level's
+// texels it needs so every level's cells line up; the whole map when nothing casts.
+glm::dvec4 cropOfInterest(const Image& level1, std::vector<glm::dvec4> marks, double w0, double h0) {
+    glm::dvec4 box(INFINITY, INFINITY, -INFINITY, -INFINITY);
+    for (int y = 0; y < level1.height; ++y)
+        for (int x = 0; x < level1.width; ++x) {
+            if (!std::isfinite(level1.at(x, level1.height - 1 - y, 0))) continue;
+            box = glm::dvec4(std::min(box.x, 2.0 * x), std::min(box.y, 2.0 * y), std::max(box.z, 2.0 * x + 2.0),
+                             std::max(box.w, 2.0 * y + 2.0));
+        }
+    for (const glm::dvec4& m : marks)
+        box = glm::dvec4(std::min(box.x, m.x), std::min(box.y, m.y), std::max(box.z, m.z), std::max(box.w, m.w));
+    if (!(box.x < box.z)) return glm::dvec4(0.0, 0.0, w0, h0);
+    const double pad = std::max(4.0, 0.125 * std::max(box.z - box.x, box.w - box.y));
+    box = glm::dvec4(std::max(0.0, box.x - pad), std::max(0.0, box.y - pad), std::min(w0, box.z + pad), std::min(h0, box.w + pad));
+    // Square it (levels are square), within the map.
+    const double side = std::min(std::max(box.z - box.x, box.w - box.y), std::min(w0, h0));
+    auto fit = [side](double lo, double hi, double extent) {
+        double centre = 0.5 * (lo + hi), a = std::clamp(centre - 0.5 * side, 0.0, std::max(0.0, extent - side));
+        return glm::dvec2(a, a + side);
+    };
+    const glm::dvec2 x = fit(box.x, box.z, w0), y = fit(box.y, box.w, h0);
+    return glm::dvec4(x.x, y.x, x.y, y.y);
+}
+
+// The cells of a level (texels of `scale` level-0 texels, size w x h) that overlap the crop.
+glm::ivec4 levelCells(const glm::dvec4& crop, double scale, int w, int h) {
+    return glm::ivec4(std::clamp(int(std::floor(crop.x / scale)), 0, w - 1), std::clamp(int(std::floor(crop.y / scale)), 0, h - 1),
+                      std::clamp(int(std::ceil(crop.z / scale)) - 1, 0, w - 1), std::clamp(int(std::ceil(crop.w / scale)) - 1, 0, h - 1));
 }
 
 void rect(std::vector<std::pair<glm::vec3, glm::vec3>>& lines, double x0, double y0, double x1, double y1, double z) {
@@ -87,20 +132,38 @@ void build(ViewContext& ctx, ViewResult& result) {
             hi = std::max(hi, b);
         }
     auto lut = sequentialLut(lo, hi, glm::vec3(0.25f));
-    const double gap = 0.45 * std::max(w0, h0);  // wide: every level seen obliquely, markers visible
-    const double sideBySide = 1.25 * w0;  // the max stack's x offset
 
-    nlohmann::json rec;
-    const nlohmann::json all = ctx.pixelData();
-    if (all.contains("lights") && all["lights"].size() > size_t(ctx.request.light))
-        rec = all["lights"][size_t(ctx.request.light)];
-    const bool hasKernel = rec.is_object() && rec.contains("kernel");
+    const nlohmann::json rec = ctx.pixelRecord();
+    const bool hasKernel = rec.is_object() && rec.contains("kernel") && rec["kernel"].is_object();
+    // Level-0 rectangles of the kernel's steps and converged range: they must stay in the crop.
+    std::vector<glm::dvec4> marks;
+    if (hasKernel) {
+        for (const auto& st : rec["kernel"].value("steps", nlohmann::json::array())) {
+            const double scale = std::ldexp(1.0, st.at("level").get<int>());
+            const auto& t = st.at("texels");
+            marks.push_back(glm::dvec4(t[0].get<double>() * scale, t[1].get<double>() * scale, (t[2].get<double>() + 1) * scale,
+                                       (t[3].get<double>() + 1) * scale));
+        }
+        if (rec["kernel"].contains("texel_range")) {
+            const auto& t = rec["kernel"]["texel_range"];
+            marks.push_back(glm::dvec4(t[0].get<double>(), t[1].get<double>(), t[2].get<double>() + 1, t[3].get<double>() + 1));
+        }
+    }
+    // Casters often fill a corner of the map: each level is cropped to the same square around them.
+    const glm::dvec4 crop = cropOfInterest(levels[0], marks, w0, h0);
+    const double cw = crop.z - crop.x, ch = crop.w - crop.y;
+    const double gap = 0.45 * std::max(cw, ch);  // wide: every level seen obliquely, markers visible
+    const double sideBySide = 1.25 * cw;           // the max stack's x offset
 
     std::string caption = "hsm  " + l.desc->id + ", L" + std::to_string(ctx.request.light) + ": " +
                           std::to_string(levels.size()) + " levels (" + std::to_string(levels[0].width) + "x" +
                           std::to_string(levels[0].height) + " .. 1x1) over a " + formatNumber(w0) + "x" +
                           formatNumber(h0) + " shadow map; min left, max right";
-    nlohmann::json data{{"levels", levels.size()}, {"range", {lo, hi}}};
+    const bool cropped = cw < w0 || ch < h0;
+    if (cropped)
+        caption += "; texels " + formatNumber(crop.x) + ".." + formatNumber(crop.z) + " x " + formatNumber(crop.y) + ".." +
+                   formatNumber(crop.w) + " shown (the casters)";
+    nlohmann::json data{{"levels", levels.size()}, {"range", {lo, hi}}, {"crop", {crop.x, crop.y, crop.z, crop.w}}};
     std::vector<std::vector<std::pair<glm::vec3, glm::vec3>>> stepLines;
     std::vector<std::pair<glm::vec3, glm::vec3>> kernelLines;
     if (hasKernel) {
@@ -141,22 +204,23 @@ void build(ViewContext& ctx, ViewResult& result) {
     r->SetBackground(0.12, 0.12, 0.14);
     for (size_t k = 0; k < levels.size(); ++k) {
         const double scale = std::ldexp(1.0, int(k) + 1), z = double(k) * gap;
-        r->AddActor(levelActor(levels[k], 0, lut, scale, z, 0.0));
-        r->AddActor(levelActor(levels[k], 1, lut, scale, z, sideBySide));
+        const glm::ivec4 cells = levelCells(crop, scale, levels[k].width, levels[k].height);
+        r->AddActor(levelActor(levels[k], 0, lut, scale, z, 0.0, cells, crop));
+        r->AddActor(levelActor(levels[k], 1, lut, scale, z, sideBySide, cells, crop));
     }
     static const glm::vec3 stepColours[] = {{1.0f, 0.2f, 0.2f}, {1.0f, 0.6f, 0.1f}, {1.0f, 1.0f, 1.0f},
                                             {0.9f, 0.3f, 0.9f}};
     for (size_t s = 0; s < stepLines.size(); ++s) r->AddActor(lineActor(stepLines[s], stepColours[std::min<size_t>(s, 3)], 3.0f));
     if (!kernelLines.empty()) r->AddActor(lineActor(kernelLines, glm::vec3(0.2f, 1.0f, 1.0f), 2.0f));
     vtkCamera* camera = r->GetActiveCamera();
-    const double cx = sideBySide * 0.5 + w0 * 0.5, cy = h0 * 0.5, cz = 0.5 * gap * double(levels.size() - 1);
+    const double cx = crop.x + 0.5 * (sideBySide + cw), cy = crop.y + 0.5 * ch, cz = 0.5 * gap * double(levels.size() - 1);
     camera->SetFocalPoint(cx, cy, cz);
-    camera->SetPosition(cx + 0.2 * w0, cy - 3.0 * h0, cz + 1.6 * std::max(w0, h0));
+    camera->SetPosition(cx + 0.2 * cw, cy - 3.0 * ch, cz + 1.6 * std::max(cw, ch));
     camera->SetViewUp(0, 0, 1);
     r->ResetCamera();
     camera->Zoom(1.1 * ctx.request.zoom);
     r->ResetCameraClippingRange();
-    r->AddActor2D(titleActor("HSM min | max: texels each kernel step read (red, orange), kernel (cyan)",
+    r->AddActor2D(titleActor("HSM min | max: each step's texels (red, orange), kernel (cyan)",
                              ctx.out.height()));
     vtkRenderer* side = ctx.out.addRenderer();
     side->SetViewport(0.86, strip, 1.0, 1.0);
