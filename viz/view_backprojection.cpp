@@ -62,8 +62,12 @@ void build(ViewContext& ctx, ViewResult& result) {
         throw InputError("view backprojection: pixel " + std::to_string(px.x) + "," + std::to_string(px.y) +
                          " shows no geometry (background)");
     }
-    const bool disk = rec["light_geometry"].value("shape", "square") != "square";
-    const double lightArea = rec["light_geometry"].at("area").get<double>();
+    if (!rec.contains("light_geometry"))
+        throw InputError("view backprojection: the " + l.desc->id + " record of pixel " + std::to_string(px.x) + "," +
+                         std::to_string(px.y) + " has no light_geometry");
+    const nlohmann::json& geometry = rec.at("light_geometry");
+    const bool disk = geometry.value("shape", "square") != "square";
+    const double lightArea = geometry.at("area").get<double>();
     const double initial = rec.value("initial_area", 0.0);
     const nlohmann::json items = rec.value(list, nlohmann::json::array());
     const bool edges = list == "edges";

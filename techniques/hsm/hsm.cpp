@@ -285,10 +285,10 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel) {
     s.receiver = c.receiver(glm::vec3(position), glm::vec3(normal));
     const BpReceiver& r = s.receiver;
     j["light_geometry"] = {{"shape", c.shape == BP_LIGHT_SQUARE ? "square" : "disk"},
-                  {"area", bpLightArea(c.shape)},
-                  {"unit_world", c.lightHalfSize},
-                  {"coordinates", c.shape == BP_LIGHT_SQUARE ? "the light square is [-1,1]^2 (unit w_l / 2) on its right, up axes"
-                                                             : "the light disk is the unit disk (unit: its radius) on its right, up axes"}};
+                           {"area", bpLightArea(c.shape)},
+                           {"unit_world", c.lightHalfSize},
+                           {"coordinates", c.shape == BP_LIGHT_SQUARE ? "the light square is [-1,1]^2 (unit w_l / 2) on its right, up axes"
+                                                                      : "the light disk is the unit disk (unit: its radius) on its right, up axes"}};
     j["receiver"] = {{"light_frame", {r.position.x, r.position.y, r.position.z}},
                      {"shadow_map_texel", {r.centre.x, r.centre.y}},
                      {"bias", r.bias},
