@@ -78,9 +78,9 @@ vtkSmartPointer<vtkActor> levelActor(const Image& level, int channel, vtkLookupT
 
 // The part of the map worth showing, in level-0 texels [x0, x1) x [y0, y1) from the bottom: where
 // HSM level 1 holds a caster (finite min depth), grown to hold `marks` (the kernel's steps and
-// range) and padded by an eighth of its size (at least 4 texels), aligned to the coarsest level's
-// texels it needs so every level's cells line up; the whole map when nothing casts.
-glm::dvec4 cropOfInterest(const Image& level1, std::vector<glm::dvec4> marks, double w0, double h0) {
+// range), padded by an eighth of its size (at least 4 texels) and made square within the map; the
+// whole map when nothing casts. Every level is cut at it (levelActor), so the stacks line up.
+glm::dvec4 cropOfInterest(const Image& level1, const std::vector<glm::dvec4>& marks, double w0, double h0) {
     glm::dvec4 box(INFINITY, INFINITY, -INFINITY, -INFINITY);
     for (int y = 0; y < level1.height; ++y)
         for (int x = 0; x < level1.width; ++x) {
