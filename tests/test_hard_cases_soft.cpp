@@ -169,8 +169,9 @@ TEST_F(HardCaseSoft, SquareOccluderClosedFormAtEveryScale) {
 // separable approximation, not of the degenerate edge (it shows no spike: 0.008).
 // The column is exactly degenerate for the closed form, `reference` and `raytraced`; for the
 // shadow-map techniques the edge is the plate's edge quantised to a texel border, so their exactly
-// degenerate line runs within a third of a pixel of the column. Exactly-through-the-centre edges and vertices of the shared back-projection math
-// are tested on the CPU (RadialIntegration.EdgesAndVerticesThroughTheCentre) and on the GPU grid.
+// degenerate line runs within a third of a pixel of the column. Edges and vertices exactly through
+// the centre in the shared back-projection math are tested on the CPU
+// (RadialIntegration.EdgesAndVerticesThroughTheCentre) and on the GPU grid (test_hard_cases_gpu.cpp).
 TEST_F(HardCaseSoft, SilhouetteEdgeThroughTheLightCentre) {
     constexpr int kOdd = 41;
     for (const float cz : {0.0f, 1.0f}) {  // the edge's middle, then the corner
