@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "gl_context.h"
-#include "metrics.h"
-#include "renderer.h"
-#include "scene.h"
+#include "gl/context.h"
+#include "graph/renderer.h"
+#include "image/metrics.h"
+#include "scene/scene.h"
 
 using namespace shadowlab;
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "gl_context.h"
-#include "renderer.h"
-#include "scene.h"
+#include "gl/context.h"
+#include "graph/renderer.h"
+#include "scene/scene.h"
 
 using namespace shadowlab;
 

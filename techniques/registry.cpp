@@ -1,5 +1,5 @@
 // Every technique, one line each, in the order `shadowlab list` shows them.
-#include "technique.h"
+#include "graph/technique.h"
 
 namespace shadowlab {
 

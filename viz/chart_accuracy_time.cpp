@@ -26,8 +26,8 @@
 #include <filesystem>
 
 #include "error.h"
-#include "image.h"
-#include "technique.h"
+#include "graph/technique.h"
+#include "image/image.h"
 #include "vtk_offscreen.h"
 
 namespace shadowlab {

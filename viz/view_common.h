@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "internals.h"
-#include "renderer.h"
+#include "graph/internals.h"
+#include "graph/renderer.h"
 #include "views.h"
 #include "vtk_offscreen.h"
 

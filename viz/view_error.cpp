@@ -1,6 +1,6 @@
 // `error`: the technique's visibility against a reference: the signed error v - v_ref (blue: too
 // dark, red: too bright) and the absolute error |v - v_ref|, each with a colour bar, and in the
-// caption the metrics of techniques/core/metrics.h over all pixels and over the penumbra, printed
+// caption the metrics of techniques/core/image/metrics.h over all pixels and over the penumbra, printed
 // exactly as `shadowlab compare` prints them (a test compares the two).
 #include <vtkImageData.h>
 #include <vtkPointData.h>
@@ -9,14 +9,14 @@
 #include <cmath>
 
 #include "error.h"
-#include "metrics.h"
+#include "image/metrics.h"
 #include "view_common.h"
 
 namespace shadowlab {
 
 namespace {
 
-// `shadowlab compare`'s line for one set of metrics (app/cli.cpp, commandCompare).
+// `shadowlab compare`'s line for one set of metrics (app/cli/cli.cpp, commandCompare).
 std::string compareLine(const char* label, const Metrics& m) {
     char line[256];
     std::snprintf(line, sizeof line, "%-9s pixels %8zu  RMSE %.6f  max %.6f  PSNR %s dB  SSIM %.6f", label, m.pixels,

@@ -32,7 +32,7 @@
 #include <cstdio>
 
 #include "error.h"
-#include "gl_loader.h"
+#include "gl/loader.h"
 #include "view_common.h"
 
 namespace shadowlab {

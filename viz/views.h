@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
+#include "image/image.h"
 
 namespace shadowlab {
 

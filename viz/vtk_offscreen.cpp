@@ -17,7 +17,7 @@
 #include <filesystem>
 
 #include "error.h"
-#include "gl_loader.h"
+#include "gl/loader.h"
 
 namespace shadowlab {
 

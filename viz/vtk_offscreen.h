@@ -1,6 +1,6 @@
 // The bridge between VTK and the GL context the program made (DESIGN.md sections 7 and 11): VTK
 // renders with vtkGenericOpenGLRenderWindow into the current context (headless EGL from
-// techniques/core/gl_context.h, or the window's GLFW one), never into a window of its own, so views
+// techniques/core/gl/context.h, or the window's GLFW one), never into a window of its own, so views
 // and charts need no X server. Each render() draws into a frame of our own (a GL texture the window
 // can show in a panel) and returns it as an RGBA Image.
 //
@@ -26,7 +26,7 @@
 #pragma once
 #include <string>
 
-#include "image.h"
+#include "image/image.h"
 
 class vtkContextView;
 class vtkGenericOpenGLRenderWindow;

@@ -7,7 +7,7 @@
 //               texel never lowers a max below "far").
 //  otherwise:   HSM level k from level k-1.
 // Texel p covers the 2x2 texels below it, widened on a level's last row or column when the level
-// below has an odd size, so no texel is left out (the rule tests/test_gpu_features.cpp checks for
+// below has an odd size, so no texel is left out (the rule tests/core/test_gpu_features.cpp checks for
 // tests/minmax_pyramid.comp).
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rg32f, binding = 1) uniform writeonly image2D destination;  // level k

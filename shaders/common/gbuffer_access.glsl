@@ -1,4 +1,4 @@
-// Reads of the G-buffer (techniques/core/renderer.h: position.w = 1 on geometry, 0 on background;
+// Reads of the G-buffer (techniques/core/graph/renderer.h: position.w = 1 on geometry, 0 on background;
 // normal.w = 1 when the object receives shadows; material.a = object id).
 #ifndef SHADOWLAB_GBUFFER_ACCESS_GLSL
 #define SHADOWLAB_GBUFFER_ACCESS_GLSL

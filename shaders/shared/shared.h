@@ -11,10 +11,10 @@ namespace shadowlab::shared {
 using namespace glm;
 using uint = std::uint32_t;
 #define SHARED_FN inline
-#include "light_sampling.glsl"
-#include "penumbra.glsl"
-#include "shadow_projection.glsl"
-#include "square_occluder.glsl"
-#include "backprojection.glsl"
+#include "shared/backprojection.glsl"
+#include "shared/light_sampling.glsl"
+#include "shared/penumbra.glsl"
+#include "shared/shadow_projection.glsl"
+#include "shared/square_occluder.glsl"
 #undef SHARED_FN
 }  // namespace shadowlab::shared

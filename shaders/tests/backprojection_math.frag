@@ -1,5 +1,5 @@
 // Test-only: evaluates shaders/shared/backprojection.glsl on a grid of inputs, one pixel each, so
-// tests/test_backprojection_gpu.cpp can compare the GPU's results with the same functions in C++.
+// tests/techniques/test_backprojection_gpu.cpp can compare the GPU's results with the same functions in C++.
 // Edge inputs come from a texture the test fills, so both sides start from the same bits.
 #include "../shared/backprojection.glsl"
 uniform sampler2D edges;  // (a.x, a.y, b.x, b.y) per pixel

@@ -1,5 +1,5 @@
 // Test-only: evaluates the shared GLSL/C++ math (shaders/shared/) on a list of inputs, hard cases
-// included, so that tests/test_hard_cases.cpp compares the GPU with the same source run in C++.
+// included, so that tests/hard_cases/test_hard_cases.cpp compares the GPU with the same source run in C++.
 layout(local_size_x = 64) in;
 #include "../shared/light_sampling.glsl"
 #include "../shared/shadow_projection.glsl"

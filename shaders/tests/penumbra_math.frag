@@ -1,5 +1,5 @@
 // Test-only: evaluates shaders/shared/penumbra.glsl on a grid, one pixel each, so that
-// tests/test_pcss.cpp can compare the GPU's results with the same functions in C++.
+// tests/techniques/test_pcss.cpp can compare the GPU's results with the same functions in C++.
 #include "../shared/penumbra.glsl"
 layout(location = 0) out vec4 outA;  // z_avg, penumbra width, search width, PCF kernel
 layout(location = 1) out vec4 outB;  // alpha and beta criteria, kernel weight, tangent-plane depth

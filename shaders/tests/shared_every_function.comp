@@ -1,6 +1,6 @@
 // Test-only: evaluates, on a list of inputs, every shared function (shaders/shared/) that
 // hard_cases.comp, shared_math.frag, penumbra_math.frag and backprojection_math.frag do not already
-// compare, so that HardCaseGpuEvery.EveryOtherSharedFunctionAgreesWithCpu (tests/test_hard_cases_gpu.cpp)
+// compare, so that HardCaseGpuEvery.EveryOtherSharedFunctionAgreesWithCpu (tests/hard_cases/test_hard_cases_gpu.cpp)
 // compares the GPU with the same source run in C++; HardCaseGpuCoverage.EverySharedFunctionIsComparedOnTheGpu
 // checks that no shared function is left out. Inputs include the hard cases: kernels of 0 and of
 // more than the map, texels on the map's border, segments on the light's border, through its

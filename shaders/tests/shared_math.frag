@@ -1,5 +1,5 @@
 // Test-only: evaluates the shared GLSL/C++ math on a grid of inputs, one pixel each, so that
-// tests/test_shared_math_gpu.cpp can compare the GPU's results with the same functions in C++.
+// tests/techniques/test_shared_math_gpu.cpp can compare the GPU's results with the same functions in C++.
 #include "../shared/light_sampling.glsl"
 #include "../shared/shadow_projection.glsl"
 #include "../shared/square_occluder.glsl"

@@ -1,6 +1,6 @@
 // One light sample of the window's progressive reference, added (additive blending) to the sums:
 // weight x the linear shaded image and weight x the visibility of a `hard` frame rendered with the
-// light at the sample point (app/window_reference.cpp).
+// light at the sample point (app/window/reference.cpp).
 uniform sampler2D image;
 uniform sampler2D visibility;
 uniform float weight;

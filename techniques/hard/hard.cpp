@@ -1,6 +1,6 @@
 // `hard`: shadow mapping from the light's centre (Williams 1978; background in cournia2005 sec. 3 (Fig. 3.1)).
 // Pass 1 renders the casters' light-view depth; pass 2 compares each receiver's depth with it.
-#include "hard.h"
+#include "hard/hard.h"
 
 #include "shared/shared.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "shadow_map.h"
+#include "visibility/shadow_map.h"
 
 namespace shadowlab {
 

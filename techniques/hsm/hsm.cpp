@@ -1,6 +1,6 @@
 // The HSM, the kernel and the classification of guennebaud2007 section 3, shared by ssm-gbp06 and
 // ssm-contour, and their CPU mirror for the per-pixel records.
-#include "hsm.h"
+#include "hsm/hsm.h"
 
 #include <cfloat>
 #include <cmath>

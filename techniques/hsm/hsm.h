@@ -7,8 +7,8 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 
-#include "shadow_map.h"
 #include "shared/shared.h"
+#include "visibility/shadow_map.h"
 
 namespace shadowlab {
 

@@ -1,6 +1,6 @@
 // `pcf`: percentage-closer filtering with a fixed kernel (Reeves, Salesin and Cook 1987): the
 // shadow map of `hard`, then the fraction of an n x n texel neighbourhood that passes the depth test.
-#include "../hard/hard.h"
+#include "hard/hard.h"
 
 namespace shadowlab {
 

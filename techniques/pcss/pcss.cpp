@@ -1,14 +1,14 @@
 // `pcss`: percentage-closer soft shadows (Fernando 2005, recapped in buades2015 sec. 2, eq. 1). The
 // light-centre shadow map of `hard`; a blocker search over the region the light and the receiver
 // define; the penumbra width of eq. 1; PCF with a kernel of that width.
-#include "pcss.h"
+#include "pcss/pcss.h"
 
 #include <cmath>
 
-#include "../hard/hard.h"
 #include "error.h"
-#include "shadow_map.h"
+#include "hard/hard.h"
 #include "shared/shared.h"
+#include "visibility/shadow_map.h"
 
 namespace shadowlab {
 

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "technique.h"
-#include "scene.h"
+#include "graph/technique.h"
+#include "scene/scene.h"
 
 namespace shadowlab {
 

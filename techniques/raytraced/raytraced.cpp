@@ -1,11 +1,11 @@
 // `raytraced`: visibility from M stratified rays per pixel to the light, traced with Embree against
-// the real triangles (techniques/core/raytracer.h). Independent of any shadow map: the tests use it
+// the real triangles (techniques/core/visibility/raytracer.h). Independent of any shadow map: the tests use it
 // to validate `reference`. Runs on the CPU; its result is uploaded as the light's visibility.
 #include <algorithm>
 
-#include "frame.h"
+#include "graph/frame.h"
 #include "progress.h"
-#include "raytracer.h"
+#include "visibility/raytracer.h"
 
 namespace shadowlab {
 

@@ -3,8 +3,8 @@
 // N stratified samples of the light (shaders/shared/light_sampling.glsl), one shadow map each, each
 // pixel's hard visibility weighted by its sample's stratum area and summed with additive blending.
 #include "progress.h"
-#include "shadow_map.h"
 #include "shared/shared.h"
+#include "visibility/shadow_map.h"
 
 namespace shadowlab {
 

@@ -5,8 +5,8 @@
 #include <glm/gtc/matrix_access.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "../hard/hard.h"
-#include "../pcss/pcss.h"
+#include "hard/hard.h"
+#include "pcss/pcss.h"
 
 namespace shadowlab {
 

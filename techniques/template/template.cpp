@@ -1,8 +1,8 @@
 // TEMPLATE technique: copy this folder (and shaders/template/) to start a technique. It compiles
-// and its descriptor is validated by tests/test_descriptors.cpp, but it is not registered: add
+// and its descriptor is validated by tests/techniques/test_descriptors.cpp, but it is not registered: add
 // `&<id>Technique()` to techniques/registry.cpp when yours is ready. docs/adding-a-technique.md
 // walks through every part.
-#include "shadow_map.h"
+#include "visibility/shadow_map.h"
 
 namespace shadowlab {
 

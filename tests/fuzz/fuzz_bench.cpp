@@ -1,7 +1,7 @@
-// libFuzzer target: the bench spec reader (app/bench_spec.cpp loadBenchSpec: fields, ranges, runs,
+// libFuzzer target: the bench spec reader (app/bench/spec.cpp loadBenchSpec: fields, ranges, runs,
 // the reference spec, paper rows; every scene it names is loaded, every technique, key and value
 // checked against the registry). Bad input must be an InputError; anything else is a finding.
-#include "bench.h"
+#include "bench/bench.h"
 #include "fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "error.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace shadowlab::fuzz {
 

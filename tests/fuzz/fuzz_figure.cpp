@@ -1,4 +1,4 @@
-// libFuzzer target: the figure spec reader (app/figure_spec.cpp parseFigureSpec: size and
+// libFuzzer target: the figure spec reader (app/bench/figure_spec.cpp parseFigureSpec: size and
 // supersample bounds, columns checked against the registry, rows' scenes loaded, row sets checked
 // against the columns' techniques, cameras, insets within the cell). Bad input must be an
 // InputError; anything else is a finding. A spec that is accepted must also survive its own
@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "figure_spec.h"
+#include "bench/figure_spec.h"
 #include "fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

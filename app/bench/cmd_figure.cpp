@@ -1,0 +1,322 @@
+// `shadowlab figure` (issue 8): a comparison grid for a paper. Rows are scenes (or parameter
+// values), columns techniques, the reference first; each cell labelled with technique, setting,
+// time and error; zoom insets marked on the full image; error heat maps under each row with one
+// shared colour bar; supersampling; a JSON sidecar from which `figure --remake` makes the same
+// figure again. Spec format: assets/figures/README.md.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "bench/bench.h"
+#include "bench/figure_draw.h"
+#include "bench/figure_spec.h"
+#include "cli/cli.h"
+#include "cli/provenance.h"
+#include "error.h"
+#include "gl/context.h"
+#include "graph/technique.h"
+#include "scene/json_reader.h"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace shadowlab {
+
+namespace {
+
+using figure::Rgb;
+
+std::string fmt(const char* format, double v) {
+    char text[64];
+    std::snprintf(text, sizeof text, format, v);
+    return text;
+}
+
+const Rgb kBackground{1.0f, 1.0f, 1.0f};
+const Rgb kInk{0.08f, 0.08f, 0.08f};
+const Rgb kGreyInk{0.35f, 0.35f, 0.35f};
+const Rgb kInsetColours[] = {{1.0f, 0.78f, 0.0f}, {0.0f, 0.75f, 1.0f}, {1.0f, 0.2f, 0.6f}, {0.3f, 0.9f, 0.3f}};
+
+struct Cell {
+    Measurement m;
+    Image picture;  // output size, RGB or grey
+    Image error;    // |v - ref| at output size (1 channel), empty without a reference
+    double labelShadowMs = 0.0;
+};
+
+// Lays the figure out and draws it.
+Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>& cells, float errorMax) {
+    const int W = spec.width, H = spec.height;
+    const int ts = spec.textScale > 0 ? spec.textScale : std::max(1, W / 128);
+    const int pad = 4 * ts, lineH = figure::textHeight(ts) - 2 * ts;
+    const int rowsCount = int(spec.rows.size()), colsCount = int(spec.columns.size());
+    const bool insetsOn = !spec.insets.empty();
+    auto insetsOf = [&](int r) {
+        std::vector<std::pair<int, Inset>> out;
+        for (size_t i = 0; i < spec.insets.size(); ++i)
+            if (!spec.insets[i].row || *spec.insets[i].row == r) out.push_back({int(i), spec.insets[i]});
+        return out;
+    };
+    // Each inset strip: the insets side by side, each W / max(2, count) wide (centred), keeping its aspect.
+    auto insetWidth = [&](int r) { return W / std::max<int>(2, int(insetsOf(r).size())); };
+    auto insetHeight = [&](int r) {
+        auto list = insetsOf(r);
+        int h = 0;
+        for (const auto& [i, in] : list) h = std::max(h, int(std::lround(double(insetWidth(r)) * in.h / in.w)));
+        return list.empty() ? 0 : h + pad;
+    };
+    const int labelLines = 4;
+    const int labelH = labelLines * lineH + pad;
+    const int titleH = spec.title.empty() ? pad : 2 * lineH + 2 * pad;
+    const int headerH = lineH + pad;  // the row's label line
+    int total = titleH;
+    std::vector<int> rowTop;
+    for (int r = 0; r < rowsCount; ++r) {
+        rowTop.push_back(total);
+        total += headerH + H + insetHeight(r) + labelH + (spec.errorMaps ? H + pad : 0) + pad;
+    }
+    const int barH = spec.errorMaps ? 10 * ts + lineH * 2 + 3 * pad : 0;
+    const int figureW = pad + colsCount * (W + pad);
+    Image out(figureW, total + barH, 3);
+    figure::fill(out, 0, 0, out.width, out.height, kBackground);
+    if (!spec.title.empty()) figure::text(out, figure::fitText(spec.title, ts, figureW - 2 * pad), pad, pad, ts, kInk);
+
+    for (int r = 0; r < rowsCount; ++r) {
+        const FigureRow& row = spec.rows[size_t(r)];
+        const Measurement& first = cells[size_t(r)][0].m;
+        std::string header = row.label.empty() ? row.scene : row.label;
+        header += "  (light size " + fmt("%g", first.lightSize) + ", " + std::to_string(W * spec.supersample) + "x" +
+                  std::to_string(H * spec.supersample) + (spec.supersample > 1 ? " rendered, shown at " + std::to_string(W) + "x" + std::to_string(H) : "") + ")";
+        figure::text(out, figure::fitText(header, ts, out.width - 2 * pad), pad, rowTop[size_t(r)] + pad / 2, ts, kInk);
+        const int imageTop = rowTop[size_t(r)] + headerH;
+        const auto insets = insetsOf(r);
+        for (int c = 0; c < colsCount; ++c) {
+            const Cell& cell = cells[size_t(r)][size_t(c)];
+            const FigureColumn& col = spec.columns[size_t(c)];
+            const int left = pad + c * (W + pad);
+            figure::blit(out, cell.picture, left, imageTop);
+            // Insets: the rectangle marked on the full picture, the zoom beneath it.
+            int y = imageTop + H;
+            if (!insets.empty()) {
+                const int each = insetWidth(r);
+                const int stripLeft = left + (W - each * int(insets.size())) / 2;
+                for (size_t k = 0; k < insets.size(); ++k) {
+                    const Inset& in = insets[k].second;
+                    const Rgb colour = kInsetColours[insets[k].first % 4];
+                    figure::outline(out, left + in.x, imageTop + in.y, left + in.x + in.w, imageTop + in.y + in.h,
+                                    std::max(1, ts), colour);
+                    const int zh = int(std::lround(double(each) * in.h / in.w));
+                    // The zoom samples the supersampled render, so it shows detail the cell cannot.
+                    const int s = spec.supersample;
+                    Image zoomed = figure::zoom(cell.m.image.width ? (spec.show == "image" ? cell.m.image : cell.m.visibility) : cell.picture,
+                                                in.x * s, in.y * s, in.w * s, in.h * s, each - (k + 1 < insets.size() ? ts : 0), zh);
+                    const int zx = stripLeft + int(k) * each;
+                    figure::blit(out, zoomed, zx, y + pad / 2);
+                    figure::outline(out, zx, y + pad / 2, zx + zoomed.width, y + pad / 2 + zh, std::max(1, ts), colour);
+                }
+                y += insetHeight(r);
+            } else if (insetsOn) {
+                y += insetHeight(r);
+            }
+            // Labels: technique and setting; time; error.
+            std::string name = col.label.empty() ? cell.m.setting.technique : col.label;
+            if (!cell.m.techniqueRan.empty() && cell.m.techniqueRan != cell.m.setting.technique)
+                name += " (ran " + cell.m.techniqueRan + ")";
+            std::string setting = Setting{cell.m.setting.technique, cell.m.setting.sets}.describe();
+            auto fit = [&](std::string t) { return figure::fitText(t, ts, W); };
+            figure::text(out, fit(name), left, y + pad / 2, ts, kInk);
+            figure::text(out, fit(setting), left, y + pad / 2 + lineH, ts, kGreyInk);
+            figure::text(out, fit("shadow " + fmt("%.2f", cell.labelShadowMs) + " ms"), left, y + pad / 2 + 2 * lineH, ts, kGreyInk);
+            if (cell.error.width)
+                figure::text(out, fit("RMSE " + fmt("%.4f", cell.m.all.rmse) + "  SSIM " + fmt("%.3f", cell.m.all.ssim)), left,
+                             y + pad / 2 + 3 * lineH, ts, kGreyInk);
+            y += labelH;
+            if (spec.errorMaps) {
+                if (cell.error.width) {
+                    figure::blit(out, figure::colourError(cell.error, errorMax), left, y);
+                } else {
+                    figure::fill(out, left, y, left + W, y + H, {0.9f, 0.9f, 0.9f});
+                }
+            }
+        }
+    }
+    if (spec.errorMaps) {
+        // One colour bar for every error map of the figure.
+        const int top = total + pad;
+        const int barW = std::min(figureW - 2 * pad, std::max(W, figureW / 2));
+        const int left = (figureW - barW) / 2;
+        Image ramp(barW, 1, 1);
+        for (int x = 0; x < barW; ++x) ramp.data[size_t(x)] = errorMax * float(x) / float(std::max(1, barW - 1));
+        Image bar = figure::colourError(figure::zoom(ramp, 0, 0, barW, 1, barW, 10 * ts), errorMax);
+        figure::blit(out, bar, left, top);
+        figure::outline(out, left - 1, top - 1, left + barW + 1, top + 10 * ts + 1, 1, kInk);
+        const int ty = top + 10 * ts + pad / 2;
+        figure::text(out, "0", left, ty, ts, kInk);
+        std::string maxText = fmt("%.3g", errorMax);
+        figure::text(out, maxText, left + barW - figure::textWidth(maxText, ts), ty, ts, kInk);
+        std::string caption = "|v - v_ref|: visibility error against " + spec.reference.describe() + " (grey: background)";
+        caption = figure::fitText(caption, ts, figureW - 2 * pad);
+        figure::text(out, caption, std::max(pad, (figureW - figure::textWidth(caption, ts)) / 2), ty + lineH, ts, kInk);
+    }
+    return out;
+}
+
+int runFigure(const FigureSpec& spec, const std::string& specFile, const std::string& out, const std::string& cacheDir,
+              const json* remakeFrom, const std::string& gl) {
+    if (!std::getenv("LP_NUM_THREADS"))
+        setenv("LP_NUM_THREADS", std::to_string(std::max(1u, std::thread::hardware_concurrency())).c_str(), 1);
+    auto context = createHeadlessContext(parseBackend(gl));
+    const int s = spec.supersample;
+    const int rw = spec.width * s, rh = spec.height * s;
+    std::vector<std::vector<Cell>> cells(spec.rows.size());
+    json cellsJson = json::array();
+    float errorMax = float(spec.errorMax);
+    bool autoMax = !(spec.errorMax > 0.0);
+    if (autoMax) errorMax = 0.0f;
+    for (size_t r = 0; r < spec.rows.size(); ++r) {
+        const FigureRow& row = spec.rows[r];
+        Scene scene = loadScene(row.scene);
+        if (row.camera) scene.camera = *row.camera;
+        CachedReference ref = cachedReference(scene, rw, rh, row.lightSize, spec.reference, cacheDir, context->renderer());
+        for (size_t c = 0; c < spec.columns.size(); ++c) {
+            Setting setting = spec.columns[c].setting;
+            const TechniqueDesc& d = requireTechnique(setting.technique, "columns");
+            for (const auto& [k, v] : row.sets)
+                if (d.findParam(k)) {
+                    setting.sets.erase(std::remove_if(setting.sets.begin(), setting.sets.end(), [&](const auto& p) { return p.first == k; }),
+                                       setting.sets.end());
+                    setting.sets.push_back({k, v});
+                }
+            std::fprintf(stderr, "figure: [%zu/%zu] %s %s %s\n", r * spec.columns.size() + c + 1,
+                         spec.rows.size() * spec.columns.size(), row.scene.c_str(), setting.technique.c_str(),
+                         setting.describe().c_str());
+            Cell cell;
+            cell.m = measureSetting(scene, row.scene, rw, rh, row.lightSize, setting, spec.frames, spec.warmup,
+                                    &ref.visibility, context->isSoftwareRasterizer());
+            cell.m.referenceKey = ref.key;
+            cell.m.referenceDesc = spec.reference.describe();
+            cell.picture = figure::downsample(spec.show == "image" ? cell.m.image : cell.m.visibility, s);
+            cell.error = figure::downsample(figure::absoluteError(cell.m.visibility, ref.visibility), s);
+            cell.labelShadowMs = cell.m.shadowMs;
+            if (autoMax)
+                for (float e : cell.error.data)
+                    if (std::isfinite(e)) errorMax = std::max(errorMax, e);
+            if (remakeFrom) {
+                // Labels show the times of the original run, so the picture is the same; the new
+                // times go to the new sidecar beside them.
+                const json& old = (*remakeFrom)["cells"];
+                size_t index = r * spec.columns.size() + c;
+                if (index < old.size()) {
+                    cell.labelShadowMs = old[index]["label_shadow_ms"].get<double>();
+                    if (old[index]["rmse"].get<double>() != cell.m.all.rmse)
+                        std::fprintf(stderr, "figure: warning: row %zu column %zu: RMSE %.9g, the original had %.9g\n", r, c,
+                                     cell.m.all.rmse, old[index]["rmse"].get<double>());
+                }
+            }
+            json cj{{"row", r},
+                    {"column", c},
+                    {"scene", row.scene},
+                    {"scene_file", scene.path},
+                    {"camera",
+                     {{"position", {scene.camera.position.x, scene.camera.position.y, scene.camera.position.z}},
+                      {"target", {scene.camera.target.x, scene.camera.target.y, scene.camera.target.z}},
+                      {"up", {scene.camera.up.x, scene.camera.up.y, scene.camera.up.z}},
+                      {"fov_deg", scene.camera.fovYDegrees}}},
+                    {"light_size", cell.m.lightSize},
+                    {"lights", cell.m.lights},
+                    {"technique", setting.technique},
+                    {"technique_ran", cell.m.techniqueRan},
+                    {"set", setting.describe()},
+                    {"parameters", cell.m.parameters},
+                    {"render_size", {rw, rh}},
+                    {"shadow_ms", cell.m.shadowMs},
+                    {"fixed_ms", cell.m.fixedMs},
+                    {"total_ms", cell.m.totalMs},
+                    {"passes_ms", cell.m.passMs},
+                    {"clock", cell.m.clock},
+                    {"label_shadow_ms", cell.labelShadowMs},
+                    {"rmse", cell.m.all.rmse},
+                    {"max_abs", cell.m.all.maxAbs},
+                    {"ssim", cell.m.all.ssim},
+                    {"penumbra_rmse", cell.m.penumbra.rmse},
+                    {"reference", spec.reference.describe()},
+                    {"reference_key", ref.key}};
+            cellsJson.push_back(cj);
+            cells[r].push_back(std::move(cell));
+            if (glDebugState().errors > 0)
+                throw InternalError(std::to_string(glDebugState().errors) + " OpenGL error(s), the last: " + glDebugState().lastError);
+        }
+    }
+    if (remakeFrom && remakeFrom->contains("error_max")) errorMax = (*remakeFrom)["error_max"].get<float>();
+    if (!(errorMax > 0.0f)) errorMax = 1.0f;  // every cell equals the reference: a scale of 1
+    Image picture = composeFigure(spec, cells, errorMax);
+
+    RunInfo info = currentRunInfo(context->renderer());
+    json side{{"shadowlab_figure", 1},
+              {"spec", specJson(spec)},
+              {"spec_file", specFile},
+              {"out", out},
+              {"error_max", errorMax},
+              {"cells", cellsJson},
+              {"program", {{"name", "shadowlab"}, {"version", info.version}}},
+              {"gl_renderer", info.glRenderer},
+              {"machine", {{"cpu", info.cpu}, {"lp_num_threads", info.lpNumThreads}, {"load_average", info.loadAverage}}},
+              {"date", info.date},
+              {"picture_size", {picture.width, picture.height}}};
+    if (remakeFrom) side["remade_from"] = {{"date", remakeFrom->value("date", "")}, {"out", remakeFrom->value("out", "")}};
+    OutputSet outputs;
+    if (fs::path(out).extension() == ".pdf")
+        figure::writeRasterPdf(outputs.stage(out), picture, 150.0, spec.title.empty() ? "shadowlab figure" : spec.title);
+    else
+        writePNG(outputs.stage(out), picture);
+    std::ofstream sidecar(outputs.stage(out + ".json"), std::ios::binary);
+    sidecar << side.dump(2) << "\n";
+    sidecar.close();
+    if (!sidecar) throw InternalError("cannot write " + out + ".json");
+    outputs.commit();
+    std::fprintf(stderr, "figure: %s (%dx%d) and its sidecar %s.json\n", out.c_str(), picture.width, picture.height, out.c_str());
+    return 0;
+}
+
+void checkFigureOut(const std::string& out) {
+    fs::path parent = fs::path(out).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent))
+        throw InputError("figure: --out: folder '" + parent.string() + "' does not exist");
+    std::string ext = fs::path(out).extension().string();
+    if (ext != ".png" && ext != ".pdf") throw InputError("figure: --out: expected a .png or .pdf file, got '" + out + "'");
+}
+
+}  // namespace
+
+int commandFigure(const std::vector<std::string>& args) {
+    Options opts("figure", args, 1, {"--spec", "--out", "--remake", "--cache", "--gl"}, {});
+    if (!opts.positional().empty()) throw InputError("figure: unexpected argument '" + opts.positional()[0] + "'");
+    const std::string cacheDir = opts.has("--cache") ? opts.get("--cache") : defaultReferenceCacheDir();
+    if (opts.has("--remake")) {
+        if (opts.has("--spec")) throw InputError("figure: give --spec fig.json or --remake fig.png.json, not both");
+        const std::string path = opts.get("--remake");
+        const JsonDocument doc = JsonDocument::fromFile(path, "figure sidecar");
+        const JsonReader r(doc);
+        r.requireObject(doc.root(), "");
+        if (!doc.root().contains("shadowlab_figure") || !doc.root().contains("spec") || !doc.root().contains("cells"))
+            r.fail("", "a figure sidecar (with shadowlab_figure, spec and cells)", "another JSON object");
+        // The recorded spec is read with the spec's own rules (messages name the sidecar and "spec.<field>").
+        const JsonDocument specDoc = JsonDocument::fromString(path + " (field spec)", doc.root()["spec"].dump());
+        FigureSpec spec = parseFigureSpec(specDoc);
+        std::string out = opts.get("--out", doc.root().value("out", ""));
+        checkFigureOut(out);
+        return runFigure(spec, doc.root().value("spec_file", ""), out, cacheDir, &doc.root(), opts.get("--gl", "egl"));
+    }
+    if (!opts.has("--spec")) throw InputError("figure: --spec fig.json (or --remake fig.png.json) is required");
+    if (!opts.has("--out")) throw InputError("figure: --out fig.png|fig.pdf is required");
+    const std::string out = opts.get("--out");
+    checkFigureOut(out);
+    const JsonDocument doc = JsonDocument::fromFile(opts.get("--spec"), "figure spec");
+    FigureSpec spec = parseFigureSpec(doc);
+    return runFigure(spec, opts.get("--spec"), out, cacheDir, nullptr, opts.get("--gl", "egl"));
+}
+
+}  // namespace shadowlab

@@ -1,0 +1,253 @@
+#include "lesson/headless.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "error.h"
+#include "lesson/html.h"
+#include "lesson/player.h"
+
+namespace fs = std::filesystem;
+
+namespace shadowlab {
+
+// ---- the host ---------------------------------------------------------------------------------------
+RendererLessonHost::RendererLessonHost(int width, int height) : width_(width), height_(height) {
+    if (width < 1 || height < 1 || width > 8192 || height > 8192)
+        throw InputError("lesson: --size: expected each side in 1..8192");
+}
+
+RendererLessonHost::~RendererLessonHost() = default;
+
+void RendererLessonHost::setScene(const std::string& name) {
+    if (scene_ && name == sceneName_) return;
+    main_.renderer.reset();
+    reference_.renderer.reset();
+    split_slot_.renderer.reset();
+    scene_ = std::make_unique<Scene>(loadScene(name));
+    sceneName_ = name;
+    lights_ = scene_->lights;
+    camera_ = scene_->camera;
+}
+
+void RendererLessonHost::setTechnique(const std::string& id) {
+    main_.technique = requireTechnique(id, "lesson").id;
+    main_.params.clear();
+    if (main_.renderer) main_.renderer->setTechnique(id);
+}
+
+void RendererLessonHost::setParam(const std::string& key, const std::string& value) {
+    for (auto& p : main_.params)
+        if (p.first == key) p.second = value;
+    if (std::none_of(main_.params.begin(), main_.params.end(), [&](const auto& p) { return p.first == key; }))
+        main_.params.push_back({key, value});
+    if (main_.renderer) main_.renderer->setParam(key, value, -1, "lesson");
+}
+
+void RendererLessonHost::setLight(size_t index, const Light& light) {
+    lights_.at(index) = light;
+    for (Slot* s : {&main_, &reference_, &split_slot_})
+        if (s->renderer) s->renderer->setLight(index, light);
+}
+
+void RendererLessonHost::setCamera(const Camera& camera) {
+    camera_ = camera;
+    for (Slot* s : {&main_, &reference_, &split_slot_})
+        if (s->renderer) s->renderer->setCamera(camera);
+}
+
+void RendererLessonHost::setReference(const std::string& technique,
+                                      const std::vector<std::pair<std::string, std::string>>& params) {
+    if (technique == reference_.technique && params == reference_.params) return;
+    reference_.technique = technique;
+    reference_.params = params;
+    if (reference_.renderer) {
+        reference_.renderer->setTechnique(technique);
+        for (const auto& [k, v] : params) reference_.renderer->setParam(k, v, -1, "lesson reference");
+    }
+}
+
+void RendererLessonHost::showView(const std::string& view, bool shown) {
+    if (shown)
+        views_.insert(view);
+    else
+        views_.erase(view);
+}
+
+void RendererLessonHost::pickPixel(std::optional<glm::vec2> pixel) { pick_ = pixel; }
+
+void RendererLessonHost::setSplit(const std::string& against) {
+    split_ = against;
+    if (!against.empty() && against != "reference" && against != split_slot_.technique) {
+        split_slot_.technique = against;
+        split_slot_.params.clear();
+        if (split_slot_.renderer) split_slot_.renderer->setTechnique(against);
+    }
+}
+
+std::optional<glm::ivec2> RendererLessonHost::pickedPixel() const {
+    if (!pick_) return std::nullopt;
+    int x = std::clamp(int(std::floor(pick_->x * width_)), 0, width_ - 1);
+    int y = std::clamp(int(std::floor(pick_->y * height_)), 0, height_ - 1);
+    return glm::ivec2(x, y);
+}
+
+void RendererLessonHost::render(Renderer& renderer, const std::set<std::string>& requested) {
+    // Lessons show the scene at t = 0: moving scenes hold still while a step is studied.
+    renderer.setTime(0.0);
+    renderer.renderFrame(0, requested);
+}
+
+RendererLessonHost::Slot& RendererLessonHost::ensure(Slot& slot) {
+    if (!scene_) throw InternalError("lesson host: no scene");
+    if (!slot.renderer) {
+        RenderOptions options;
+        options.width = width_;
+        options.height = height_;
+        options.technique = slot.technique;
+        slot.renderer = std::make_unique<Renderer>(*scene_, options);
+        for (size_t i = 0; i < lights_.size(); ++i) slot.renderer->setLight(i, lights_[i]);
+        slot.renderer->setCamera(camera_);
+        for (const auto& [k, v] : slot.params) slot.renderer->setParam(k, v, -1, "lesson");
+    }
+    std::set<std::string> requested = {"image", "visibility"};
+    if (&slot == &main_ && views_.count("shadow-map-texels"))
+        for (const std::string& r : slot.renderer->internalRequests(false))
+            if (r.find("/shadow_map") != std::string::npos) requested.insert(r);
+    render(*slot.renderer, requested);
+    return slot;
+}
+
+Renderer& RendererLessonHost::technique() { return *ensure(main_).renderer; }
+Renderer& RendererLessonHost::reference() { return *ensure(reference_).renderer; }
+Renderer& RendererLessonHost::splitRenderer() {
+    return split_.empty() || split_ == "reference" ? reference() : *ensure(split_slot_).renderer;
+}
+
+TaskBuffers RendererLessonHost::readTaskBuffers(bool withReference) {
+    TaskBuffers b;
+    Renderer& t = technique();
+    b.visibility = t.visibility();
+    b.ids = t.ids();
+    if (withReference) b.reference = reference().visibility();
+    return b;
+}
+
+// ---- the headless runner --------------------------------------------------------------------------------
+namespace {
+
+std::string stepFile(size_t step, const std::string& suffix) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "step-%02zu%s.png", step + 1, suffix.c_str());
+    return buf;
+}
+
+nlohmann::json outcomeJson(const TaskCondition::Outcome& o) {
+    nlohmann::json values = nlohmann::json::array();
+    for (double v : o.values) values.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
+    return {{"passed", o.passed}, {"message", o.message}, {"values", values}};
+}
+
+}  // namespace
+
+nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& directory, int width, int height) {
+    OutputSet outputs;
+    auto png = [&](const std::string& name, const Image& image) {
+        writePNG(outputs.stage((fs::path(directory) / name).string()), image);
+    };
+    RendererLessonHost host(width, height);
+    LessonPlayer player(lesson, host);
+    nlohmann::json summary{{"lesson", lesson.id}, {"title", lesson.title}, {"file", lesson.file},
+                           {"size", {width, height}}, {"steps", nlohmann::json::array()}};
+    std::vector<HandoutStep> handout;
+    for (size_t k = 0; k < lesson.steps.size(); ++k) {
+        player.goTo(k);
+        const LessonStep& step = lesson.steps[k];
+        HandoutStep h;
+        h.title = step.title;
+        h.narration = step.narration;
+        nlohmann::json js{{"title", step.title}, {"line", step.where.line}, {"state", step.state.describe()}};
+        h.image = stepFile(k, "");
+        png(h.image, renderLessonView(host, "technique"));
+        h.caption = step.state.technique + (step.state.split.empty() ? "" : " | " + step.state.split);
+        js["images"] = {h.image};
+        for (const std::string& view : step.state.views) {
+            std::string file = stepFile(k, "-" + view);
+            png(file, renderLessonView(host, view));
+            h.views.push_back({view, file});
+            js["images"].push_back(file);
+        }
+        if (auto p = host.pickedPixel()) {
+            float v = host.technique().visibility().at(p->x, p->y);
+            float r = host.reference().visibility().at(p->x, p->y);
+            char line[160];
+            std::snprintf(line, sizeof line, "picked pixel (%d, %d): visibility %.3f, reference %.3f", p->x, p->y, v, r);
+            h.notes.push_back(line);
+            js["pick"] = {{"pixel", {p->x, p->y}}, {"visibility", v}, {"reference", r}};
+        }
+        if (step.animate) {
+            const LessonAnimation& a = *step.animate;
+            for (int f = 0; f < 3; ++f) {
+                double fraction = f * 0.5;
+                applyLessonState(host, animatedState(step, fraction));
+                std::string file = stepFile(k, "-anim-" + std::to_string(f));
+                png(file, renderLessonView(host, "technique"));
+                h.animation.push_back({a.target + " = " + animatedValueText(step, fraction), file});
+                js["images"].push_back(file);
+            }
+            player.restore();
+        }
+        if (step.task) {
+            const LessonTask& task = *step.task;
+            bool ref = task.check.readsReference();
+            TaskCondition::Outcome own = task.check.evaluate(host.readTaskBuffers(ref));
+            player.showMe();
+            TaskCondition::Outcome answer = task.check.evaluate(host.readTaskBuffers(ref));
+            if (own.passed)
+                throw InputError(task.where.str() + ": the task is already solved in the step's own state (" +
+                                 own.message + "); the student would have nothing to do");
+            if (!answer.passed)
+                throw InputError(task.where.str() + ": the task's answer does not pass its check (" + answer.message + ")");
+            h.task = task.prompt;
+            h.check = task.check.text();
+            h.ownOutcome = own.message;
+            h.answerOutcome = answer.message;
+            h.answerImage = stepFile(k, "-answer");
+            h.answerCommands = "";
+            for (const LessonCommand& c : task.answer) {
+                std::string line = c.name;
+                for (const std::string& a : c.args) line += " " + a;
+                h.answerCommands += line + "\n";
+            }
+            png(h.answerImage, renderLessonView(host, "technique"));
+            js["task"] = {{"prompt", task.prompt}, {"check", task.check.text()}, {"line", task.where.line},
+                          {"own", outcomeJson(own)}, {"answer", outcomeJson(answer)}, {"image", h.answerImage}};
+            player.restore();
+        }
+        summary["steps"].push_back(js);
+        handout.push_back(h);
+    }
+    std::ofstream html(outputs.stage((fs::path(directory) / "index.html").string()), std::ios::binary);
+    html << lessonHandoutHtml(lesson, handout, width, height);
+    html.close();
+    std::ofstream json(outputs.stage((fs::path(directory) / "lesson.json").string()), std::ios::binary);
+    json << summary.dump(2) << "\n";
+    json.close();
+    if (!html || !json) throw InternalError("cannot write the handout into " + directory);
+    outputs.commit();
+    // Pictures of an earlier run that this run did not write would mislead: remove them.
+    std::set<std::string> written;
+    for (const auto& s : summary["steps"])
+        for (const auto& f : s["images"]) written.insert(f.get<std::string>());
+    for (const auto& s : summary["steps"])
+        if (s.contains("task")) written.insert(s["task"]["image"].get<std::string>());
+    for (const auto& e : fs::directory_iterator(directory)) {
+        std::string name = e.path().filename().string();
+        if (name.rfind("step-", 0) == 0 && e.path().extension() == ".png" && !written.count(name)) fs::remove(e.path());
+    }
+    return summary;
+}
+
+}  // namespace shadowlab

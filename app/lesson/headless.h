@@ -1,0 +1,75 @@
+// The headless side of lessons: a LessonHost on Renderers (the technique, the reference, and a
+// second technique for a split), the views rendered from their buffers (app/lesson/step_views.cpp), and
+// `shadowlab lesson L --headless --out DIR`: every step as PNGs plus an HTML handout.
+#pragma once
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "graph/renderer.h"
+#include "image/image.h"
+#include "lesson/host.h"
+
+namespace shadowlab {
+
+// Needs a current GL context for as long as it lives.
+class RendererLessonHost : public LessonHost {
+public:
+    RendererLessonHost(int width, int height);
+    ~RendererLessonHost() override;
+
+    void setScene(const std::string& name) override;
+    void setTechnique(const std::string& id) override;
+    void setParam(const std::string& key, const std::string& value) override;
+    void setLight(size_t index, const Light& light) override;
+    void setCamera(const Camera& camera) override;
+    void setReference(const std::string& technique,
+                      const std::vector<std::pair<std::string, std::string>>& params) override;
+    void showView(const std::string& view, bool shown) override;
+    void pickPixel(std::optional<glm::vec2> pixel) override;
+    void setSplit(const std::string& against) override;
+    TaskBuffers readTaskBuffers(bool withReference) override;
+
+    // ---- what the runner and the views read
+    Renderer& technique();            // rendered (frame 0, time 0) on return
+    Renderer& reference();            // rendered on return
+    Renderer& splitRenderer();        // the reference, or the split's own technique; rendered
+    const Scene& scene() const { return *scene_; }
+    const std::set<std::string>& views() const { return views_; }
+    const std::string& split() const { return split_; }
+    std::optional<glm::ivec2> pickedPixel() const;  // in pixels of the image
+    int width() const { return width_; }
+    int height() const { return height_; }
+
+private:
+    struct Slot {
+        std::unique_ptr<Renderer> renderer;
+        std::string technique;
+        std::vector<std::pair<std::string, std::string>> params;
+        bool dirty = true;
+    };
+    Slot& ensure(Slot& slot);  // creates (with every light and the camera) and renders
+    void render(Renderer& renderer, const std::set<std::string>& requested);
+    int width_, height_;
+    std::unique_ptr<Scene> scene_;
+    std::string sceneName_;
+    std::vector<Light> lights_;
+    Camera camera_;
+    Slot main_, reference_, split_slot_;
+    std::set<std::string> views_;
+    std::optional<glm::vec2> pick_;
+    std::string split_;
+};
+
+// The images of one view of the host's current state (app/lesson/step_views.cpp): "technique" (the
+// shaded image, with the split and the picked pixel), or one of lessonViews().
+Image renderLessonView(RendererLessonHost& host, const std::string& view);
+
+// Renders every step of `lesson` into `directory` (PNGs, index.html, lesson.json with each step's
+// state and task outcomes); checks each task both ways (the step's state must not pass it, the
+// show-me state must), else an InputError naming the task's line. All-or-nothing outputs.
+nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& directory, int width, int height);
+
+}  // namespace shadowlab

@@ -1,0 +1,790 @@
+#include "lesson/lesson.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "error.h"
+#include "views.h"
+
+namespace fs = std::filesystem;
+
+namespace shadowlab {
+
+namespace {
+
+std::string joinList(const std::vector<std::string>& items) {
+    std::string out;
+    for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
+    return out;
+}
+
+std::string trim(const std::string& s) {
+    size_t a = s.find_first_not_of(" \t\r");
+    if (a == std::string::npos) return "";
+    size_t b = s.find_last_not_of(" \t\r");
+    return s.substr(a, b - a + 1);
+}
+
+std::string formatValue(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return buf;
+}
+
+// A finite number, the whole word; else InputError naming `what`.
+double parseNumber(const std::string& text, const SourceLocation& where, const std::string& what) {
+    char* end = nullptr;
+    double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+        throw InputError(where.str() + ": " + what + ": expected a finite number, got '" + text + "'");
+    return v;
+}
+
+// Scenes are loaded once per process for validation (a lesson names few).
+const Scene& sceneNamed(const std::string& name, const SourceLocation& where) {
+    static std::map<std::string, std::unique_ptr<Scene>> cache;
+    auto it = cache.find(name);
+    if (it != cache.end()) return *it->second;
+    std::vector<std::string> names = listScenes();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+        throw InputError(where.str() + ": unknown scene '" + name + "' (scenes: " + joinList(names) + ")");
+    try {
+        auto scene = std::make_unique<Scene>(loadScene(name));
+        return *cache.emplace(name, std::move(scene)).first->second;
+    } catch (const InputError& e) {
+        throw InputError(where.str() + ": scene '" + name + "' does not load: " + e.what());
+    }
+}
+
+// Splits a command line into words; "double quotes" group words.
+std::vector<std::string> splitWords(const std::string& line, const SourceLocation& where) {
+    std::vector<std::string> words;
+    std::string word;
+    bool inQuote = false, have = false;
+    for (char c : line) {
+        if (c == '"') {
+            inQuote = !inQuote;
+            have = true;
+        } else if (!inQuote && (c == ' ' || c == '\t')) {
+            if (have) words.push_back(word);
+            word.clear();
+            have = false;
+        } else {
+            word += c;
+            have = true;
+        }
+    }
+    if (inQuote) throw InputError(where.str() + ": unclosed quote in '" + line + "'");
+    if (have) words.push_back(word);
+    return words;
+}
+
+const std::vector<std::string> kStateCommands = {"scene", "technique", "set",  "light", "camera",
+                                                 "show",  "hide",      "pick", "split", "reference"};
+const std::vector<std::string> kStepCommands = {"animate", "try", "check", "answer"};
+
+std::vector<std::string> allCommands() {
+    std::vector<std::string> all = kStateCommands;
+    all.insert(all.end(), kStepCommands.begin(), kStepCommands.end());
+    return all;
+}
+
+void expectArgs(const LessonCommand& c, size_t lo, size_t hi, const std::string& usage) {
+    if (c.args.size() < lo || c.args.size() > hi)
+        throw InputError(c.where.str() + ": " + c.name + ": expected '" + usage + "', got " +
+                         std::to_string(c.args.size()) + " argument(s)");
+}
+
+glm::vec3 parseVec3(const LessonCommand& c, size_t& i, const std::string& key) {
+    if (i + 3 > c.args.size())
+        throw InputError(c.where.str() + ": " + c.name + " " + key + ": expected three numbers x y z");
+    glm::vec3 v;
+    for (int k = 0; k < 3; ++k) v[k] = float(parseNumber(c.args[i + k], c.where, c.name + " " + key));
+    i += 3;
+    return v;
+}
+
+LightShape parseShape(const std::string& text, const SourceLocation& where) {
+    for (LightShape s : {LightShape::Point, LightShape::Square, LightShape::Disk, LightShape::Sphere})
+        if (text == lightShapeName(s)) return s;
+    throw InputError(where.str() + ": light shape: expected one of point, square, disk, sphere, got '" + text + "'");
+}
+
+void applyLight(LessonState& state, const LessonCommand& c) {
+    if (state.scene.empty()) throw InputError(c.where.str() + ": light: no scene yet (give 'scene NAME' first)");
+    size_t i = 0;
+    size_t index = 0;
+    if (!c.args.empty() && std::isdigit(static_cast<unsigned char>(c.args[0][0]))) {
+        double n = parseNumber(c.args[0], c.where, "light index");
+        if (n != std::floor(n) || n < 0 || n >= double(state.lights.size()))
+            throw InputError(c.where.str() + ": light: index " + c.args[0] + " out of range (the scene has " +
+                             std::to_string(state.lights.size()) + " light(s))");
+        index = size_t(n);
+        i = 1;
+    }
+    if (state.lights.empty()) throw InputError(c.where.str() + ": light: the scene has no light");
+    if (i >= c.args.size())
+        throw InputError(c.where.str() + ": light: expected key value pairs (keys: shape, size, position, direction, up, "
+                                         "intensity) or 'reset'");
+    Light& light = state.lights[index];
+    const std::string keys = "shape, size, position, direction, up, intensity, reset";
+    while (i < c.args.size()) {
+        const std::string key = c.args[i++];
+        if (key == "reset") {
+            light = sceneNamed(state.scene, c.where).lights.at(index);
+            continue;
+        }
+        if (key == "position" || key == "direction" || key == "up") {
+            glm::vec3 v = parseVec3(c, i, key);
+            if (key != "position") {
+                if (glm::length(v) == 0.0f) throw InputError(c.where.str() + ": light " + key + ": expected a non-zero vector");
+                v = glm::normalize(v);
+            }
+            (key == "position" ? light.position : key == "direction" ? light.direction : light.up) = v;
+            continue;
+        }
+        if (i >= c.args.size()) throw InputError(c.where.str() + ": light " + key + ": expected a value");
+        const std::string value = c.args[i++];
+        if (key == "shape") {
+            light.shape = parseShape(value, c.where);
+            if (light.shape == LightShape::Point) light.size = 0.0f;
+        } else if (key == "size") {
+            double v = parseNumber(value, c.where, "light size");
+            if (v < 0.0 || v > 1000.0)
+                throw InputError(c.where.str() + ": light size: expected a value in [0, 1000], got " + value);
+            light.size = float(v);
+            if (v > 0.0 && light.shape == LightShape::Point) light.shape = LightShape::Square;
+        } else if (key == "intensity") {
+            double v = parseNumber(value, c.where, "light intensity");
+            if (v < 0.0) throw InputError(c.where.str() + ": light intensity: expected a value >= 0, got " + value);
+            light.intensity = float(v);
+        } else {
+            throw InputError(c.where.str() + ": light: unknown key '" + key + "' (keys: " + keys + ")");
+        }
+    }
+    if (glm::length(glm::cross(light.direction, light.up)) < 1e-6f)
+        throw InputError(c.where.str() + ": light: up is parallel to direction");
+    light.up = glm::normalize(light.up - glm::dot(light.up, light.direction) * light.direction);
+}
+
+void applyCamera(LessonState& state, const LessonCommand& c) {
+    if (state.scene.empty()) throw InputError(c.where.str() + ": camera: no scene yet (give 'scene NAME' first)");
+    if (c.args.empty())
+        throw InputError(c.where.str() + ": camera: expected key value pairs (keys: position, target, up, fov) or 'reset'");
+    Camera& cam = state.camera;
+    size_t i = 0;
+    while (i < c.args.size()) {
+        const std::string key = c.args[i++];
+        if (key == "reset") {
+            cam = sceneNamed(state.scene, c.where).camera;
+        } else if (key == "position") {
+            cam.position = parseVec3(c, i, key);
+        } else if (key == "target") {
+            cam.target = parseVec3(c, i, key);
+        } else if (key == "up") {
+            cam.up = parseVec3(c, i, key);
+        } else if (key == "fov") {
+            if (i >= c.args.size()) throw InputError(c.where.str() + ": camera fov: expected a value in degrees");
+            double v = parseNumber(c.args[i++], c.where, "camera fov");
+            if (v <= 0.0 || v >= 180.0) throw InputError(c.where.str() + ": camera fov: expected a value in (0, 180) degrees");
+            cam.fovYDegrees = float(v);
+        } else {
+            throw InputError(c.where.str() + ": camera: unknown key '" + key + "' (keys: position, target, up, fov, reset)");
+        }
+    }
+    glm::vec3 forward = cam.target - cam.position;
+    if (glm::length(forward) == 0.0f) throw InputError(c.where.str() + ": camera: target equals position");
+    if (glm::length(glm::cross(forward, cam.up)) < 1e-6f) throw InputError(c.where.str() + ": camera: up is parallel to the view direction");
+}
+
+// key value, or key=value.
+std::pair<std::string, std::string> keyValue(const LessonCommand& c, size_t& i) {
+    const std::string& a = c.args[i++];
+    size_t eq = a.find('=');
+    if (eq != std::string::npos) {
+        if (eq == 0) throw InputError(c.where.str() + ": " + c.name + ": expected key=value, got '" + a + "'");
+        return {a.substr(0, eq), a.substr(eq + 1)};
+    }
+    if (i >= c.args.size()) throw InputError(c.where.str() + ": " + c.name + " " + a + ": expected a value");
+    return {a, c.args[i++]};
+}
+
+}  // namespace
+
+// ---- state ---------------------------------------------------------------------------------------------
+const std::vector<std::string>& lessonViews() {
+    // Each is rendered by renderLessonView() (app/lesson/step_views.cpp): the two visibility buffers,
+    // the shadow map texel by texel around the casters, and every view of viz/ (listViews()).
+    static const std::vector<std::string> views = [] {
+        std::vector<std::string> v = {"visibility", "reference", "shadow-map-texels"};
+        for (const ViewInfo& info : listViews()) v.push_back(info.name);
+        return v;
+    }();
+    return views;
+}
+
+static std::vector<std::pair<std::string, std::string>> textsOf(const std::string& id, const ParamValues& values) {
+    std::vector<std::pair<std::string, std::string>> out;
+    const TechniqueDesc* desc = findTechnique(id);
+    if (!desc) return out;
+    for (const ParamDesc& p : desc->params)
+        out.push_back({p.key, p.type == ParamDesc::Type::Enum ? values.getChoice(p.key) : formatValue(values.get(p.key))});
+    return out;
+}
+
+std::vector<std::pair<std::string, std::string>> LessonState::paramTexts() const { return textsOf(technique, params); }
+std::vector<std::pair<std::string, std::string>> LessonState::referenceParamTexts() const {
+    return textsOf(referenceTechnique, referenceParams);
+}
+
+static bool sameLight(const Light& a, const Light& b) {
+    return a.shape == b.shape && a.position == b.position && a.direction == b.direction && a.up == b.up &&
+           a.size == b.size && a.color == b.color && a.intensity == b.intensity && a.castsShadows == b.castsShadows;
+}
+
+bool LessonState::operator==(const LessonState& o) const {
+    if (lights.size() != o.lights.size()) return false;
+    for (size_t i = 0; i < lights.size(); ++i)
+        if (!sameLight(lights[i], o.lights[i])) return false;
+    return scene == o.scene && technique == o.technique && params.values() == o.params.values() &&
+           camera.position == o.camera.position && camera.target == o.camera.target && camera.up == o.camera.up &&
+           camera.fovYDegrees == o.camera.fovYDegrees && camera.nearPlane == o.camera.nearPlane &&
+           camera.farPlane == o.camera.farPlane && views == o.views && pick == o.pick && split == o.split &&
+           referenceTechnique == o.referenceTechnique && referenceParams.values() == o.referenceParams.values();
+}
+
+std::string LessonState::describe() const {
+    std::ostringstream s;
+    auto v3 = [](const glm::vec3& v) { return formatValue(v.x) + " " + formatValue(v.y) + " " + formatValue(v.z); };
+    s << "scene " << scene << "\ntechnique " << technique;
+    for (const auto& [k, v] : paramTexts()) s << " " << k << "=" << v;
+    for (size_t i = 0; i < lights.size(); ++i)
+        s << "\nlight " << i << " shape " << lightShapeName(lights[i].shape) << " size " << formatValue(lights[i].size)
+          << " position " << v3(lights[i].position) << " direction " << v3(lights[i].direction);
+    s << "\ncamera position " << v3(camera.position) << " target " << v3(camera.target) << " fov "
+      << formatValue(camera.fovYDegrees);
+    s << "\nviews";
+    for (const std::string& v : views) s << " " << v;
+    if (pick) s << "\npick " << formatValue(pick->x) << " " << formatValue(pick->y);
+    if (!split.empty()) s << "\nsplit " << split;
+    s << "\nreference " << referenceTechnique;
+    for (const auto& [k, v] : referenceParamTexts()) s << " " << k << "=" << v;
+    return s.str();
+}
+
+void applyLessonCommand(LessonState& state, const LessonCommand& c) {
+    const std::string at = c.where.str() + ": ";
+    if (c.name == "scene") {
+        expectArgs(c, 1, 1, "scene NAME");
+        const Scene& scene = sceneNamed(c.args[0], c.where);
+        state.scene = c.args[0];
+        state.lights = scene.lights;
+        state.camera = scene.camera;
+        state.pick.reset();
+    } else if (c.name == "technique") {
+        expectArgs(c, 1, 1, "technique ID");
+        const TechniqueDesc& desc = requireTechnique(c.args[0], c.where.str());
+        state.technique = desc.id;
+        state.params = ParamValues(desc);
+    } else if (c.name == "set") {
+        if (state.technique.empty()) throw InputError(at + "set: no technique yet (give 'technique ID' first)");
+        if (c.args.empty()) throw InputError(at + "set: expected 'set KEY VALUE' or 'set KEY=VALUE ...'");
+        const TechniqueDesc& desc = *findTechnique(state.technique);
+        size_t i = 0;
+        while (i < c.args.size()) {
+            auto [key, value] = keyValue(c, i);
+            state.params.set(desc, key, value, c.where.str());
+        }
+    } else if (c.name == "light") {
+        applyLight(state, c);
+    } else if (c.name == "camera") {
+        applyCamera(state, c);
+    } else if (c.name == "show" || c.name == "hide") {
+        if (c.args.empty()) throw InputError(at + c.name + ": expected one or more view names (views: " + joinList(lessonViews()) + ")");
+        for (const std::string& v : c.args) {
+            if (c.name == "hide" && v == "all") {
+                state.views.clear();
+                continue;
+            }
+            if (std::find(lessonViews().begin(), lessonViews().end(), v) == lessonViews().end())
+                throw InputError(at + c.name + ": unknown view '" + v + "' (views: " + joinList(lessonViews()) +
+                                 (c.name == "hide" ? ", all" : "") + ")");
+            if (c.name == "show")
+                state.views.insert(v);
+            else
+                state.views.erase(v);
+        }
+    } else if (c.name == "pick") {
+        expectArgs(c, 1, 2, "pick U V (fractions of the image from the top left) or 'pick none'");
+        if (c.args.size() == 1) {
+            if (c.args[0] != "none") throw InputError(at + "pick: expected 'pick U V' or 'pick none', got '" + c.args[0] + "'");
+            state.pick.reset();
+        } else {
+            double u = parseNumber(c.args[0], c.where, "pick U"), v = parseNumber(c.args[1], c.where, "pick V");
+            if (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0)
+                throw InputError(at + "pick: expected U and V in [0, 1] (fractions of the image from the top left), got " +
+                                 c.args[0] + " " + c.args[1]);
+            state.pick = glm::vec2(float(u), float(v));
+        }
+    } else if (c.name == "split") {
+        expectArgs(c, 1, 1, "split reference|TECHNIQUE|off");
+        if (c.args[0] == "off")
+            state.split.clear();
+        else if (c.args[0] == "reference")
+            state.split = "reference";
+        else
+            state.split = requireTechnique(c.args[0], c.where.str()).id;
+    } else if (c.name == "reference") {
+        if (c.args.empty()) throw InputError(at + "reference: expected 'reference reference|raytraced [key=value ...]'");
+        const TechniqueDesc& desc = requireTechnique(c.args[0], c.where.str());
+        if (desc.id != "reference" && desc.id != "raytraced")
+            throw InputError(at + "reference: expected a reference technique (reference, raytraced), got '" + desc.id + "'");
+        state.referenceTechnique = desc.id;
+        state.referenceParams = ParamValues(desc);
+        size_t i = 1;
+        while (i < c.args.size()) {
+            auto [key, value] = keyValue(c, i);
+            state.referenceParams.set(desc, key, value, c.where.str());
+        }
+    } else {
+        bool stepOnly = std::find(kStepCommands.begin(), kStepCommands.end(), c.name) != kStepCommands.end();
+        if (stepOnly) throw InputError(at + c.name + ": only allowed in a step, not here");
+        throw InputError(at + "unknown command '" + c.name + "' (commands: " + joinList(allCommands()) + ")");
+    }
+}
+
+// ---- task conditions ----------------------------------------------------------------------------------
+namespace {
+
+struct CondToken {
+    std::string text;
+    bool number = false;
+    double value = 0.0;
+};
+
+std::vector<CondToken> tokenizeCondition(const std::string& text, const SourceLocation& where) {
+    std::vector<CondToken> out;
+    size_t i = 0;
+    while (i < text.size()) {
+        char c = text[i];
+        if (c == ' ' || c == '\t') {
+            ++i;
+        } else if (c == '(' || c == ')' || c == '&') {
+            out.push_back({std::string(1, c)});
+            ++i;
+        } else if (c == '<' || c == '>' || c == '=' || c == '!') {
+            std::string op(1, c);
+            if (i + 1 < text.size() && text[i + 1] == '=') op += '=';
+            if (op == "=" || op == "!" || op == "==" || op == "!=")
+                throw InputError(where.str() + ": check: comparisons are < <= > >=, got '" + op + "'");
+            out.push_back({op});
+            i += op.size();
+        } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+') {
+            char* end = nullptr;
+            double v = std::strtod(text.c_str() + i, &end);
+            size_t n = size_t(end - (text.c_str() + i));
+            if (n == 0 || !std::isfinite(v))
+                throw InputError(where.str() + ": check: expected a number at '" + text.substr(i) + "'");
+            out.push_back({text.substr(i, n), true, v});
+            i += n;
+        } else if (std::isalpha(static_cast<unsigned char>(c))) {
+            size_t j = i;
+            while (j < text.size() && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_' ||
+                                       text[j] == ':' || text[j] == '-'))
+                ++j;
+            out.push_back({text.substr(i, j - i)});
+            i = j;
+        } else {
+            throw InputError(where.str() + ": check: unexpected character '" + std::string(1, c) + "' in '" + text + "'");
+        }
+    }
+    return out;
+}
+
+bool isComparison(const std::string& s) { return s == "<" || s == "<=" || s == ">" || s == ">="; }
+bool compare(double a, const std::string& op, double b) {
+    return op == "<" ? a < b : op == "<=" ? a <= b : op == ">" ? a > b : a >= b;
+}
+
+// Lit, umbra and penumbra come from the reference with a margin of 0.01 that absorbs the noise of
+// a finite number of light samples.
+constexpr float kLitThreshold = 0.99f;
+constexpr float kUmbraThreshold = 0.01f;
+
+}  // namespace
+
+TaskCondition::TaskCondition(const std::string& text, const SourceLocation& where) : text_(text) {
+    const std::string usage =
+        "expected STAT(BUFFER [in MASK & ...]) OP NUMBER joined by 'and', STAT one of min, max, mean, "
+        "fraction (fraction(BUFFER < T ...)), BUFFER one of visibility, reference, error, MASK one of all, lit, "
+        "umbra, penumbra, object:N";
+    std::vector<CondToken> t = tokenizeCondition(text, where);
+    size_t i = 0;
+    auto fail = [&](const std::string& what) {
+        throw InputError(where.str() + ": check: " + what + " in '" + text + "' (" + usage + ")");
+    };
+    auto peek = [&]() -> std::string { return i < t.size() ? t[i].text : std::string("end of line"); };
+    auto expect = [&](const std::string& s) {
+        if (i >= t.size() || t[i].text != s) fail("expected '" + s + "', got '" + peek() + "'");
+        ++i;
+    };
+    auto number = [&]() {
+        if (i >= t.size() || !t[i].number) fail("expected a number, got '" + peek() + "'");
+        return t[i++].value;
+    };
+    if (t.empty()) fail("empty condition");
+    while (true) {
+        size_t first = i;
+        Term term;
+        term.stat = peek();
+        if (term.stat != "min" && term.stat != "max" && term.stat != "mean" && term.stat != "fraction")
+            fail("unknown statistic '" + term.stat + "'");
+        ++i;
+        expect("(");
+        term.buffer = peek();
+        if (term.buffer != "visibility" && term.buffer != "reference" && term.buffer != "error")
+            fail("unknown buffer '" + term.buffer + "'");
+        ++i;
+        if (term.stat == "fraction") {
+            if (!isComparison(peek())) fail("fraction needs a comparison, e.g. fraction(visibility < 0.5), got '" + peek() + "'");
+            term.compare = t[i++].text;
+            term.threshold = number();
+        }
+        if (peek() == "in") {
+            ++i;
+            while (true) {
+                std::string m = peek();
+                bool object = m.rfind("object:", 0) == 0;
+                if (object) {
+                    std::string n = m.substr(7);
+                    char* end = nullptr;
+                    long id = std::strtol(n.c_str(), &end, 10);
+                    if (n.empty() || *end != '\0' || id < 0 || id > 16777215)
+                        fail("object:N needs a whole number N in [0, 2^24 - 1] (an object id), got '" + m + "'");
+                } else if (m != "all" && m != "lit" && m != "umbra" && m != "penumbra") {
+                    fail("unknown mask '" + m + "'");
+                }
+                term.masks.push_back(m);
+                ++i;
+                if (peek() != "&") break;
+                ++i;
+            }
+        }
+        expect(")");
+        if (!isComparison(peek())) fail("expected a comparison < <= > >= after ')', got '" + peek() + "'");
+        term.op = t[i++].text;
+        term.value = number();
+        for (size_t k = first; k < i; ++k) term.text += (k > first && t[k].text != ")" && t[k].text != "(" && t[k - 1].text != "(" ? " " : "") + t[k].text;
+        terms_.push_back(term);
+        if (i == t.size()) break;
+        expect("and");
+    }
+}
+
+bool TaskCondition::readsReference() const {
+    for (const Term& t : terms_)
+        if (t.buffer != "visibility" || !t.masks.empty()) return true;
+    return false;
+}
+
+TaskCondition::Outcome TaskCondition::evaluate(const TaskBuffers& b) const {
+    Outcome out;
+    out.passed = !terms_.empty();
+    const size_t n = b.ids.pixelCount();
+    if (b.visibility.pixelCount() != n || (readsReference() && b.reference.pixelCount() != n))
+        throw InternalError("task check: buffers differ in size");
+    for (const Term& term : terms_) {
+        double lo = INFINITY, hi = -INFINITY, sum = 0.0;
+        size_t count = 0, hits = 0;
+        // object:N masks as ids (-1 for the others).
+        std::vector<int> objectIds;
+        for (const std::string& m : term.masks) objectIds.push_back(m.rfind("object:", 0) == 0 ? std::stoi(m.substr(7)) : -1);
+        for (size_t p = 0; p < n; ++p) {
+            float id = b.ids.data[p];
+            if (id < 0.0f) continue;  // background
+            bool inside = true;
+            for (size_t k = 0; k < term.masks.size() && inside; ++k) {
+                const std::string& m = term.masks[k];
+                if (objectIds[k] >= 0) {
+                    inside = int(id) == objectIds[k];
+                } else if (m != "all") {
+                    float r = b.reference.data[p];
+                    inside = m == "lit"     ? r >= kLitThreshold
+                             : m == "umbra" ? r <= kUmbraThreshold
+                                            : r > kUmbraThreshold && r < kLitThreshold;
+                }
+            }
+            if (!inside) continue;
+            double v = term.buffer == "visibility" ? b.visibility.data[p]
+                       : term.buffer == "reference" ? b.reference.data[p]
+                                                    : std::fabs(double(b.visibility.data[p]) - b.reference.data[p]);
+            if (!std::isfinite(v)) continue;
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+            sum += v;
+            ++count;
+            if (term.stat == "fraction" && compare(v, term.compare, term.threshold)) ++hits;
+        }
+        double value = NAN;
+        if (count > 0)
+            value = term.stat == "min" ? lo : term.stat == "max" ? hi : term.stat == "mean" ? sum / count : double(hits) / count;
+        bool ok = count > 0 && compare(value, term.op, term.value);
+        out.passed = out.passed && ok;
+        out.values.push_back(value);
+        char line[512];
+        if (count == 0)
+            std::snprintf(line, sizeof line, "%s: no pixel in the mask", term.text.c_str());
+        else
+            std::snprintf(line, sizeof line, "%s: %.4g (needs %s %g) %s", term.text.c_str(), value, term.op.c_str(),
+                          term.value, ok ? "yes" : "not yet");
+        out.message += (out.message.empty() ? "" : "\n") + std::string(line);
+    }
+    return out;
+}
+
+// ---- parsing --------------------------------------------------------------------------------------------
+namespace {
+
+LessonCommand parseCommandLine(const std::string& line, const SourceLocation& where) {
+    LessonCommand c;
+    c.where = where;
+    std::string body = trim(line);
+    size_t sp = body.find_first_of(" \t");
+    c.name = body.substr(0, sp);
+    std::string rest = sp == std::string::npos ? "" : trim(body.substr(sp));
+    if (c.name == "try" || c.name == "check") {
+        if (rest.empty()) throw InputError(where.str() + ": " + c.name + ": expected text after '" + c.name + "'");
+        c.args = {rest};  // the prompt or the condition, whole
+    } else if (c.name == "answer") {
+        if (rest.empty()) throw InputError(where.str() + ": answer: expected a command, e.g. 'answer set bias_const 1'");
+        c.args = {rest};
+    } else {
+        c.args = splitWords(rest, where);
+    }
+    return c;
+}
+
+// Applies a step's own commands: state commands change `state`; animate, try, check and answer
+// fill the step's fields.
+void applyStepCommands(LessonStep& step, LessonState& state) {
+    std::optional<SourceLocation> tryAt, checkAt;
+    std::vector<LessonCommand> answer;
+    std::string prompt, condition;
+    for (const LessonCommand& c : step.commands) {
+        if (c.name == "animate") {
+            expectArgs(c, 3, 4, "animate TARGET FROM TO [SECONDS]");
+            if (step.animate) throw InputError(c.where.str() + ": animate: a step animates one value (first at line " +
+                                               std::to_string(step.animate->where.line) + ")");
+            LessonAnimation a;
+            a.target = c.args[0];
+            a.from = parseNumber(c.args[1], c.where, "animate FROM");
+            a.to = parseNumber(c.args[2], c.where, "animate TO");
+            if (c.args.size() == 4) {
+                a.seconds = parseNumber(c.args[3], c.where, "animate SECONDS");
+                if (a.seconds <= 0.0 || a.seconds > 600.0)
+                    throw InputError(c.where.str() + ": animate SECONDS: expected a value in (0, 600]");
+            }
+            a.where = c.where;
+            step.animate = a;
+        } else if (c.name == "try") {
+            if (tryAt) throw InputError(c.where.str() + ": try: a step has one task (first at line " + std::to_string(tryAt->line) + ")");
+            tryAt = c.where;
+            prompt = c.args[0];
+        } else if (c.name == "check") {
+            if (checkAt) throw InputError(c.where.str() + ": check: a task has one condition (join terms with 'and')");
+            checkAt = c.where;
+            condition = c.args[0];
+        } else if (c.name == "answer") {
+            answer.push_back(parseCommandLine(c.args[0], c.where));
+        } else {
+            applyLessonCommand(state, c);
+        }
+    }
+    for (const char* view : {"shadow-map", "shadow-map-texels"})
+        if (state.views.count(view) && !findTechnique(state.technique)->findInternal("shadow_map"))
+            throw InputError(step.where.str() + ": the " + view + " view is shown but technique " + state.technique +
+                             " has no light-centre shadow map (show it with hard or pcf, or 'hide " + view + "')");
+    step.state = state;
+    // Animation targets are checked against the step's technique and light.
+    if (step.animate) {
+        const LessonAnimation& a = *step.animate;
+        const std::string at = a.where.str() + ": animate: ";
+        if (a.target.rfind("light.", 0) == 0) {
+            const std::string k = a.target.substr(6);
+            if (k != "size" && k != "x" && k != "y" && k != "z")
+                throw InputError(at + "unknown target '" + a.target + "' (light.size, light.x, light.y, light.z or a parameter)");
+            if (k == "size" && (a.from < 0.0 || a.to < 0.0)) throw InputError(at + "light.size: expected values >= 0");
+            if (state.lights.empty()) throw InputError(at + "the scene has no light");
+        } else {
+            const TechniqueDesc& desc = *findTechnique(state.technique);
+            const ParamDesc* p = desc.findParam(a.target);
+            ParamValues probe = state.params;
+            probe.set(desc, a.target, formatValue(a.from), a.where.str());  // unknown key, range
+            probe.set(desc, a.target, formatValue(a.to), a.where.str());
+            if (p->type != ParamDesc::Type::Float && p->type != ParamDesc::Type::Int)
+                throw InputError(at + a.target + " is a " + paramTypeName(p->type) + "; only float and int parameters animate");
+        }
+    }
+    if (tryAt || checkAt || !answer.empty()) {
+        SourceLocation at = tryAt ? *tryAt : checkAt ? *checkAt : answer.front().where;
+        if (!tryAt) throw InputError(at.str() + ": a task needs 'try TEXT' (what the student is asked to do)");
+        if (!checkAt) throw InputError(at.str() + ": try: the task needs 'check CONDITION'");
+        if (answer.empty()) throw InputError(at.str() + ": try: the task needs at least one 'answer COMMAND' (its show-me state)");
+        LessonTask task;
+        task.prompt = prompt;
+        task.where = at;
+        task.check = TaskCondition(condition, *checkAt);
+        task.answer = answer;
+        LessonState answered = state;
+        for (const LessonCommand& c : answer) {
+            if (std::find(kStateCommands.begin(), kStateCommands.end(), c.name) == kStateCommands.end())
+                throw InputError(c.where.str() + ": answer: expected a state command (" + joinList(kStateCommands) +
+                                 "), got '" + c.name + "'");
+            applyLessonCommand(answered, c);
+        }
+        step.task = task;
+        step.answerState = answered;
+    }
+}
+
+bool isFence(const std::string& line) { return trim(line).rfind("```", 0) == 0; }
+
+}  // namespace
+
+Lesson parseLesson(const std::string& text, const std::string& file, const std::string& id) {
+    Lesson lesson;
+    lesson.id = id;
+    lesson.file = file;
+    std::vector<std::string> lines;
+    {
+        std::istringstream in(text);
+        std::string line;
+        while (std::getline(in, line)) {
+            if (!line.empty() && line.back() == '\r') line.pop_back();
+            lines.push_back(line);
+        }
+    }
+    auto at = [&](size_t index) { return SourceLocation{file, int(index + 1)}; };
+
+    std::vector<LessonCommand> startCommands;
+    LessonStep* step = nullptr;
+    std::string* narration = &lesson.introduction;
+    bool titled = false;
+    for (size_t i = 0; i < lines.size(); ++i) {
+        const std::string& line = lines[i];
+        if (isFence(line)) {
+            std::string info = trim(trim(line).substr(3));
+            size_t end = i + 1;
+            while (end < lines.size() && !isFence(lines[end])) ++end;
+            if (end == lines.size()) throw InputError(at(i).str() + ": code block opened here is never closed (```)");
+            if (info == "shadowlab") {
+                if (!titled) throw InputError(at(i).str() + ": expected the lesson title ('# Title') before any command");
+                for (size_t k = i + 1; k < end; ++k) {
+                    std::string body = trim(lines[k]);
+                    if (body.empty() || body[0] == '#') continue;
+                    LessonCommand c = parseCommandLine(body, at(k));
+                    (step ? step->commands : startCommands).push_back(c);
+                }
+            } else {
+                for (size_t k = i; k <= end; ++k) *narration += lines[k] + "\n";
+            }
+            i = end;
+            continue;
+        }
+        if (line.rfind("# ", 0) == 0) {
+            if (titled) throw InputError(at(i).str() + ": a lesson has one title ('# '); steps start with '## '");
+            lesson.title = trim(line.substr(2));
+            if (lesson.title.empty()) throw InputError(at(i).str() + ": empty title");
+            titled = true;
+            continue;
+        }
+        if (line.rfind("## ", 0) == 0) {
+            if (!titled) throw InputError(at(i).str() + ": expected the lesson title ('# Title') before the first step");
+            lesson.steps.push_back({});
+            step = &lesson.steps.back();
+            step->title = trim(line.substr(3));
+            step->where = at(i);
+            if (step->title.empty()) throw InputError(at(i).str() + ": empty step title");
+            narration = &step->narration;
+            continue;
+        }
+        if (!titled) {
+            if (trim(line).empty()) continue;
+            throw InputError(at(i).str() + ": expected the lesson title ('# Title') on the first line, got '" + line + "'");
+        }
+        *narration += line + "\n";
+    }
+    if (!titled) throw InputError(file + ":1: expected the lesson title ('# Title'), the file is empty");
+    if (lesson.steps.empty()) throw InputError(file + ":" + std::to_string(lines.size()) + ": a lesson needs at least one step ('## Title')");
+    auto trimNarration = [](std::string& s) {
+        size_t a = s.find_first_not_of("\n");
+        s = a == std::string::npos ? "" : s.substr(a);
+        while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+    };
+    trimNarration(lesson.introduction);
+
+    // The start: scene first, technique defaults to the first light's technique (else hard), and
+    // the reference defaults to its own defaults.
+    LessonState state;
+    for (const LessonCommand& c : startCommands) {
+        if (std::find(kStepCommands.begin(), kStepCommands.end(), c.name) != kStepCommands.end())
+            throw InputError(c.where.str() + ": " + c.name + ": only allowed in a step ('## ...'), not in the lesson's start");
+        applyLessonCommand(state, c);
+        if (c.name == "scene" && state.technique.empty()) {
+            const Scene& scene = sceneNamed(state.scene, c.where);
+            std::string t = !scene.lights.empty() && !scene.lights[0].technique.empty() ? scene.lights[0].technique : "hard";
+            state.technique = requireTechnique(t, c.where.str()).id;
+            state.params = ParamValues(*findTechnique(t));
+        }
+    }
+    if (state.scene.empty())
+        throw InputError(file + ":" + std::to_string(lesson.steps.front().where.line) +
+                         ": the lesson's start (a ```shadowlab block before the first step) must name a scene");
+    state.referenceParams = state.referenceTechnique == "reference" && state.referenceParams.values().empty()
+                                ? ParamValues(*findTechnique("reference"))
+                                : state.referenceParams;
+    lesson.start = state;
+    for (LessonStep& s : lesson.steps) {
+        trimNarration(s.narration);
+        applyStepCommands(s, state);
+    }
+    return lesson;
+}
+
+Lesson loadLesson(const std::string& nameOrPath) {
+    std::string path, shown, id;
+    if (nameOrPath.find('/') != std::string::npos || (nameOrPath.size() > 3 && nameOrPath.substr(nameOrPath.size() - 3) == ".md")) {
+        path = shown = nameOrPath;
+        id = fs::path(nameOrPath).stem().string();
+    } else {
+        std::vector<std::string> names = listLessons();
+        if (std::find(names.begin(), names.end(), nameOrPath) == names.end())
+            throw InputError("unknown lesson '" + nameOrPath + "' (lessons: " + joinList(names) + ")");
+        path = projectRoot() + "/lessons/" + nameOrPath + ".md";
+        shown = "lessons/" + nameOrPath + ".md";
+        id = nameOrPath;
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(shown + ": cannot read the lesson file");
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    return parseLesson(buffer.str(), shown, id);
+}
+
+std::vector<std::string> listLessons() {
+    std::vector<std::string> out;
+    fs::path dir = fs::path(projectRoot()) / "lessons";
+    if (!fs::is_directory(dir)) return out;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().extension() == ".md" && e.path().filename() != "README.md") out.push_back(e.path().stem().string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+}  // namespace shadowlab

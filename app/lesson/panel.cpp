@@ -1,0 +1,140 @@
+// The lesson player's ImGui panel (Dear ImGui 1.86): what the window draws beside the views.
+#include <imgui.h>
+
+#include <cctype>
+#include <sstream>
+#include <string>
+
+#include "lesson/player.h"
+
+namespace shadowlab {
+
+namespace {
+
+bool keyPressed(ImGuiKey key) {
+    int index = ImGui::GetKeyIndex(key);
+    return index >= 0 && ImGui::IsKeyPressed(index, false);
+}
+
+bool letterPressed(char upper) {
+    // Letters are read from the character queue (layout-independent in 1.86).
+    const ImGuiIO& io = ImGui::GetIO();
+    for (int i = 0; i < io.InputQueueCharacters.Size; ++i)
+        if (io.InputQueueCharacters[i] == ImWchar(upper) || io.InputQueueCharacters[i] == ImWchar(upper - 'A' + 'a'))
+            return true;
+    return false;
+}
+
+// Markdown narration as the panel shows it: the source's hard line breaks joined within a paragraph
+// (ImGui wraps at the panel's width), list items and blank lines kept, ** emphasis markers dropped.
+std::string reflowNarration(const std::string& markdown) {
+    std::string out, line;
+    std::istringstream in(markdown);
+    bool paragraphOpen = false;
+    while (std::getline(in, line)) {
+        size_t first = line.find_first_not_of(" \t");
+        if (first == std::string::npos) {
+            if (!out.empty() && out.back() != '\n') out += "\n";
+            if (!out.empty()) out += "\n";
+            paragraphOpen = false;
+            continue;
+        }
+        std::string text = line.substr(first);
+        bool item = text.rfind("- ", 0) == 0 || text.rfind("* ", 0) == 0 ||
+                    (std::isdigit(static_cast<unsigned char>(text[0])) && text.find(". ") != std::string::npos &&
+                     text.find(". ") < 4);
+        if (paragraphOpen && !item) out += " ";
+        else if (paragraphOpen) out += "\n";
+        out += text;
+        paragraphOpen = true;
+    }
+    std::string clean;
+    for (size_t i = 0; i < out.size(); ++i) {
+        if (out.compare(i, 2, "**") == 0) {
+            ++i;
+            continue;
+        }
+        clean += out[i];
+    }
+    return clean;
+}
+
+const char* statusText(LessonPlayer::TaskStatus s) {
+    switch (s) {
+        case LessonPlayer::TaskStatus::NoTask: return "";
+        case LessonPlayer::TaskStatus::NotChecked: return "not checked yet";
+        case LessonPlayer::TaskStatus::Passed: return "solved!";
+        case LessonPlayer::TaskStatus::NotYet: return "not yet";
+        case LessonPlayer::TaskStatus::ShownAnswer: return "answer shown";
+    }
+    return "";
+}
+
+ImVec4 statusColour(LessonPlayer::TaskStatus s) {
+    switch (s) {
+        case LessonPlayer::TaskStatus::Passed: return ImVec4(0.3f, 0.9f, 0.3f, 1.0f);
+        case LessonPlayer::TaskStatus::NotYet: return ImVec4(1.0f, 0.6f, 0.2f, 1.0f);
+        case LessonPlayer::TaskStatus::ShownAnswer: return ImVec4(0.6f, 0.7f, 1.0f, 1.0f);
+        default: return ImVec4(0.8f, 0.8f, 0.8f, 1.0f);
+    }
+}
+
+}  // namespace
+
+void drawLessonPanel(LessonPlayer& player, float fontScale) {
+    const Lesson& lesson = player.lesson();
+    ImGui::Begin("Lesson");
+    ImGui::SetWindowFontScale(fontScale);
+    // Keys work while no text field has the keyboard.
+    if (!ImGui::GetIO().WantTextInput) {
+        if (keyPressed(ImGuiKey_RightArrow) || keyPressed(ImGuiKey_PageDown)) player.next();
+        if (keyPressed(ImGuiKey_LeftArrow) || keyPressed(ImGuiKey_PageUp)) player.previous();
+        if (keyPressed(ImGuiKey_Space)) player.setPlaying(!player.playing());
+        if (letterPressed('R')) player.restore();
+        if (letterPressed('C') && player.step().task) player.checkTask();
+        if (letterPressed('M') && player.step().task) player.showMe();
+    }
+    const LessonStep& step = player.step();
+    ImGui::TextUnformatted(lesson.title.c_str());
+    char progress[64];
+    std::snprintf(progress, sizeof progress, "step %zu of %zu", player.stepIndex() + 1, player.stepCount());
+    ImGui::ProgressBar(player.progress(), ImVec2(-1.0f, 0.0f), progress);
+    if (player.taskCount() > 0) ImGui::Text("tasks solved: %zu of %zu", player.tasksSolved(), player.taskCount());
+    ImGui::Separator();
+    ImGui::TextWrapped("%s", step.title.c_str());
+    ImGui::Spacing();
+    ImGui::BeginChild("narration", ImVec2(0, -ImGui::GetFrameHeightWithSpacing() * (step.task ? 6.0f : 2.0f)), false);
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextUnformatted(reflowNarration(step.narration).c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::EndChild();
+    if (step.task) {
+        ImGui::Separator();
+        ImGui::TextWrapped("Try this: %s", step.task->prompt.c_str());
+        if (ImGui::Button("Check (C)")) player.checkTask();
+        ImGui::SameLine();
+        if (ImGui::Button("Show me (M)")) player.showMe();
+        const LessonPlayer::Feedback& f = player.feedback();
+        ImGui::PushStyleColor(ImGuiCol_Text, statusColour(f.status));
+        ImGui::TextWrapped("%s", statusText(f.status));
+        ImGui::PopStyleColor();
+        if (!f.message.empty()) ImGui::TextWrapped("%s", f.message.c_str());
+    }
+    ImGui::Separator();
+    ImGui::BeginDisabled(player.atFirst());
+    if (ImGui::Button("< Previous")) player.previous();
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    if (ImGui::Button("Restore step (R)")) player.restore();
+    ImGui::SameLine();
+    if (player.hasAnimation()) {
+        if (ImGui::Button(player.playing() ? "Pause (Space)" : "Play (Space)")) player.setPlaying(!player.playing());
+        ImGui::SameLine();
+    }
+    ImGui::BeginDisabled(player.atLast());
+    if (ImGui::Button("Next >")) player.next();
+    ImGui::EndDisabled();
+    ImGui::End();
+}
+
+}  // namespace shadowlab

@@ -1,0 +1,148 @@
+#include "lesson/player.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "error.h"
+
+namespace shadowlab {
+
+namespace {
+
+// The nearest value the parameter's table accepts (animations sweep through valid values only).
+double snapParam(const ParamDesc& p, double v) {
+    v = std::clamp(v, p.minValue, p.maxValue);
+    if (p.type == ParamDesc::Type::Float) return v;
+    double step = p.step > 1.0 ? p.step : 1.0;
+    v = p.minValue + std::round((v - p.minValue) / step) * step;
+    if (p.constraint == ParamDesc::Constraint::Odd && std::fmod(std::fabs(v), 2.0) != 1.0)
+        v = v + 1.0 <= p.maxValue ? v + 1.0 : v - 1.0;
+    if (p.constraint == ParamDesc::Constraint::PowerOfTwo) v = std::exp2(std::round(std::log2(std::max(v, 1.0))));
+    return std::clamp(v, p.minValue, p.maxValue);
+}
+
+std::string number(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return buf;
+}
+
+}  // namespace
+
+std::string animatedValueText(const LessonStep& step, double fraction) {
+    const LessonAnimation& a = *step.animate;
+    double v = a.from + (a.to - a.from) * std::clamp(fraction, 0.0, 1.0);
+    if (a.target.rfind("light.", 0) == 0) return number(v);
+    const ParamDesc* p = findTechnique(step.state.technique)->findParam(a.target);
+    return number(snapParam(*p, v));
+}
+
+LessonState animatedState(const LessonStep& step, double fraction) {
+    LessonState s = step.state;
+    if (!step.animate) return s;
+    const LessonAnimation& a = *step.animate;
+    std::string text = animatedValueText(step, fraction);
+    if (a.target.rfind("light.", 0) == 0) {
+        double v = std::stod(text);
+        Light& l = s.lights.at(0);
+        if (a.target == "light.size") {
+            l.size = float(v);
+            if (v > 0.0 && l.shape == LightShape::Point) l.shape = LightShape::Square;
+        } else {
+            l.position[a.target == "light.x" ? 0 : a.target == "light.y" ? 1 : 2] = float(v);
+        }
+    } else {
+        s.params.set(*findTechnique(s.technique), a.target, text, a.where.str());
+    }
+    return s;
+}
+
+LessonPlayer::LessonPlayer(Lesson lesson, LessonHost& host) : lesson_(std::move(lesson)), host_(host) {
+    if (lesson_.steps.empty()) throw InputError(lesson_.file + ": the lesson has no step");
+    feedback_.resize(lesson_.steps.size());
+    for (size_t i = 0; i < lesson_.steps.size(); ++i)
+        feedback_[i].status = lesson_.steps[i].task ? TaskStatus::NotChecked : TaskStatus::NoTask;
+    goTo(0);
+}
+
+void LessonPlayer::apply(const LessonState& state) { applyLessonState(host_, state); }
+
+void LessonPlayer::goTo(size_t step) {
+    if (step >= lesson_.steps.size())
+        throw InputError(lesson_.file + ": step " + std::to_string(step + 1) + " does not exist (the lesson has " +
+                         std::to_string(lesson_.steps.size()) + ")");
+    step_ = step;
+    animationTime_ = 0.0;
+    playing_ = hasAnimation();
+    apply(lesson_.steps[step_].state);
+}
+
+bool LessonPlayer::next() {
+    if (atLast()) return false;
+    goTo(step_ + 1);
+    return true;
+}
+
+bool LessonPlayer::previous() {
+    if (atFirst()) return false;
+    goTo(step_ - 1);
+    return true;
+}
+
+void LessonPlayer::restore() { goTo(step_); }
+
+const LessonPlayer::Feedback& LessonPlayer::checkTask() {
+    Feedback& f = feedback_[step_];
+    const LessonStep& s = step();
+    if (!s.task) {
+        f = {TaskStatus::NoTask, "this step has no task"};
+        return f;
+    }
+    TaskCondition::Outcome outcome = s.task->check.evaluate(host_.readTaskBuffers(s.task->check.readsReference()));
+    if (f.status == TaskStatus::ShownAnswer && outcome.passed) {
+        f.message = outcome.message;  // solved by show me: stays marked as shown
+        return f;
+    }
+    f.status = outcome.passed ? TaskStatus::Passed : TaskStatus::NotYet;
+    f.message = outcome.message;
+    return f;
+}
+
+void LessonPlayer::showMe() {
+    const LessonStep& s = step();
+    if (!s.answerState) return;
+    playing_ = false;
+    apply(*s.answerState);
+    if (feedback_[step_].status != TaskStatus::Passed) feedback_[step_].status = TaskStatus::ShownAnswer;
+}
+
+size_t LessonPlayer::tasksSolved() const {
+    size_t n = 0;
+    for (const Feedback& f : feedback_) n += f.status == TaskStatus::Passed;
+    return n;
+}
+
+size_t LessonPlayer::taskCount() const {
+    size_t n = 0;
+    for (const LessonStep& s : lesson_.steps) n += s.task.has_value();
+    return n;
+}
+
+void LessonPlayer::update(double seconds) {
+    if (!playing_ || !hasAnimation()) return;
+    const LessonAnimation& a = *step().animate;
+    animationTime_ += seconds;
+    // Back and forth: from -> to in `seconds`, then back.
+    double phase = std::fmod(animationTime_ / a.seconds, 2.0);
+    double fraction = phase <= 1.0 ? phase : 2.0 - phase;
+    std::string text = animatedValueText(step(), fraction);
+    if (a.target.rfind("light.", 0) == 0) {
+        LessonState s = animatedState(step(), fraction);
+        host_.setLight(0, s.lights[0]);
+    } else {
+        host_.setParam(a.target, text);
+    }
+}
+
+}  // namespace shadowlab

@@ -1,0 +1,100 @@
+// The window's accuracy-time chart (issue 8, DESIGN.md section 1: "the app places any setting on an
+// accuracy-versus-time chart"): every setting the user visits while the reference of the current
+// scene, light and camera is complete becomes a point (RMSE against that reference, shadow_ms of
+// the setting measured with every pass run; recorded while the chart is open), drawn with the bench's own chart
+// (viz/chart_accuracy_time.h), the current setting ringed. A change of scene, light, camera or size
+// restarts the reference and clears the points: they are only comparable against one reference.
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+#include <vtkContextScene.h>
+#include <vtkContextView.h>
+#include <vtkNew.h>
+#include <vtkRenderer.h>
+
+#include "chart_accuracy_time.h"
+#include "image/image.h"
+#include "vtk_offscreen.h"
+#include "window/window.h"
+
+namespace shadowlab {
+
+// The setting as the chart labels it: the parameters set away from the paper's defaults, or "defaults".
+static std::string settingLabel(const std::map<std::string, std::string>& params) {
+    std::string label;
+    for (const auto& [key, value] : params) label += (label.empty() ? "" : " ") + key + "=" + value;
+    return label.empty() ? "defaults" : label;
+}
+
+void Window::recordAccuracyPoint() {
+    // Timing a setting runs its passes three more times (seconds for a heavy technique on llvmpipe):
+    // only while the chart is open.
+    if (!state_.showAccuracy) return;
+    if (accuracyGeneration_ != reference_.generation()) {
+        accuracyPoints_.clear();
+        accuracyGeneration_ = reference_.generation();
+    }
+    // shadow_ms of this setting alone: every needed pass timed (frame numbers no normal frame uses).
+    renderer_->measureCost(costFrame_, 3);
+    double shadowMs = renderer_->cost(costFrame_).shadowMs;
+    costFrame_ += 3;
+    AccuracyTimePoint point{state_.technique, settingLabel(state_.params), shadowMs, metricsAll_->rmse, true};
+    for (AccuracyTimePoint& p : accuracyPoints_) p.highlight = false;
+    auto same = std::find_if(accuracyPoints_.begin(), accuracyPoints_.end(), [&](const AccuracyTimePoint& p) {
+        return p.series == point.series && p.label == point.label;
+    });
+    if (same != accuracyPoints_.end()) *same = point;
+    else accuracyPoints_.push_back(point);
+    accuracyDirty_ = true;
+}
+
+void Window::drawAccuracyChart() {
+    if (!state_.showAccuracy) return;
+    const float s = state_.uiScale;
+    int w = int(560 * s), h = int(380 * s);
+    if (accuracyDirty_ || !accuracyFrame_ || accuracyFrame_->width() != w || accuracyFrame_->height() != h) {
+        if (!accuracyFrame_) accuracyFrame_ = std::make_unique<VtkOffscreen>(w, h);
+        if (accuracyFrame_->width() != w || accuracyFrame_->height() != h) accuracyFrame_->resize(w, h);
+        vtkNew<vtkContextView> view;
+        accuracyFrame_->attach(view);
+        view->GetRenderer()->SetBackground(1.0, 1.0, 1.0);  // opaque: the panel's dark fill must not show through
+        view->GetRenderer()->SetBackgroundAlpha(1.0);
+        AccuracyTimePanel panel{(scene_ ? scene_->name : std::string()) + ": RMSE against the reference", accuracyPoints_};
+        AccuracyTimeStyle style;
+        style.fontSize = int(12 * s);
+        if (!accuracyPoints_.empty()) view->GetScene()->AddItem(buildAccuracyTimeChart(panel, style));
+        accuracyFrame_->renderToTexture();
+        accuracyDirty_ = false;
+    }
+    ImGui::SetNextWindowPos(ImVec2(windowSize().x - float(w) - 24 * s, windowSize().y - float(h) - 90 * s),
+                            ImGuiCond_FirstUseEver);
+    ImGui::Begin("Accuracy vs time (A)", &state_.showAccuracy, ImGuiWindowFlags_AlwaysAutoResize);
+    if (accuracyPoints_.empty())
+        ImGui::TextWrapped("Points appear once the reference is complete: each setting you try is placed by its "
+                           "shadow_ms and its RMSE against the reference (B computes it in the background).");
+    else
+        ImGui::Text("%zu setting(s) against one reference; the ring is the current one", accuracyPoints_.size());
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(accuracyFrame_->texture())),
+                 ImVec2(float(w), float(h)), ImVec2(0, 1), ImVec2(1, 0));
+    if (ImGui::Button("clear")) {
+        accuracyPoints_.clear();
+        accuracyDirty_ = true;
+    }
+    ImGui::End();
+}
+
+void Window::saveAccuracyPoints(const std::string& path) const {
+    nlohmann::json points = nlohmann::json::array();
+    for (const AccuracyTimePoint& p : accuracyPoints_)
+        points.push_back({{"technique", p.series}, {"setting", p.label}, {"shadow_ms", p.timeMs}, {"rmse", p.error},
+                          {"current", p.highlight}});
+    OutputSet outputs;
+    std::ofstream(outputs.stage(path)) << nlohmann::json{{"scene", scene_ ? scene_->name : ""}, {"points", points}}.dump(1)
+                                       << "\n";
+    outputs.commit();
+}
+
+}  // namespace shadowlab

@@ -1,0 +1,179 @@
+// The lesson player in the window (DESIGN.md section 8): a LessonHost on the window's own actions
+// (selectScene, selectTechnique, setParam, setLight, setCamera, pickPixel, setCompare, openView), so
+// a lesson step changes the window exactly as the panel, the keys and --script do, and the panel of
+// app/lesson/panel.cpp drawn beside the views.
+//
+// What differs from the headless host (app/lesson/headless.cpp), and why:
+//   - "reference" is the window's progressive reference (the `reference` technique's stratified
+//     samples, N from the lesson's `reference reference samples=N`); a task that reads it completes
+//     it at once (a pause of a few seconds on llvmpipe) so the check sees the finished integral.
+//     Another reference technique (raytraced) is rendered once, synchronously, for the check.
+//   - the lesson-only views `visibility` and `reference` are the technique view itself and the
+//     split against the reference; `shadow-map-texels` opens the `shadow-map` view.
+#include "gl/loader.h"  // before GLFW, which must not include GL/gl.h
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "lesson/player.h"
+#include "views.h"
+#include "window/window.h"
+
+namespace shadowlab {
+
+class WindowLessonHost : public LessonHost {
+public:
+    explicit WindowLessonHost(Window& window) : w_(window) {}
+
+    void setScene(const std::string& name) override {
+        if (w_.state_.scene != name || !w_.scene_) w_.selectScene(name);
+    }
+    void setTechnique(const std::string& id) override {
+        // raytraced takes seconds per frame on the CPU: the window shows the progressive reference,
+        // the same integral (a lesson's "two references agree" step shows one of the two live).
+        if (id == "raytraced") {
+            w_.selectTechnique("reference");
+            w_.setStatus("lesson: raytraced is shown as the progressive reference in the window (`shadowlab render "
+                         "--technique raytraced` renders it)");
+            return;
+        }
+        w_.selectTechnique(id);  // parameters start at their defaults
+    }
+    void setParam(const std::string& key, const std::string& value) override {
+        // The window shows `reference` as its progressive reference: only N applies there (its
+        // shadow maps use the window's defaults), so the step's other keys are not sent.
+        if (w_.state_.technique == "reference") {
+            if (key == "samples") w_.setReferenceSamples(std::stoi(value));
+            return;
+        }
+        w_.setParam(key, value);
+    }
+    void setLight(size_t index, const Light& light) override { w_.setLight(int(index), light); }
+    void setCamera(const Camera& camera) override { w_.setCamera(camera); }
+    void setReference(const std::string& technique,
+                      const std::vector<std::pair<std::string, std::string>>& params) override {
+        referenceTechnique_ = technique;
+        referenceParams_ = params;
+        if (technique != "reference") return;
+        for (const auto& [key, value] : params)
+            if (key == "samples") w_.setReferenceSamples(std::stoi(value));
+    }
+    void showView(const std::string& view, bool shown) override {
+        if (view == "visibility") return;  // the technique view is always shown
+        if (view == "reference") {
+            referenceShown_ = shown;  // applied with the split (setSplit comes after the views)
+            return;
+        }
+        if (view == "shadow-map-texels") texelsShown_ = shown;  // comes before "shadow-map"
+        std::string name = view == "shadow-map-texels" ? "shadow-map" : view;
+        std::vector<ViewInfo> all = listViews();
+        if (std::none_of(all.begin(), all.end(), [&](const ViewInfo& v) { return v.name == name; })) return;
+        if (shown || (name == "shadow-map" && texelsShown_)) w_.openView(name);
+        else w_.closeView(name);
+    }
+    void pickPixel(std::optional<glm::vec2> pixel) override {
+        if (!pixel) {
+            w_.state_.pickedPixel.reset();
+            return;
+        }
+        glm::ivec2 size = w_.renderSize();
+        w_.pickPixel(glm::ivec2(int(std::floor(pixel->x * float(size.x))), int(std::floor(pixel->y * float(size.y)))));
+    }
+    void setSplit(const std::string& against) override {
+        if (against.empty()) w_.setCompare(referenceShown_ ? WindowState::Compare::Reference : WindowState::Compare::None);
+        else if (against == "reference") w_.setCompare(WindowState::Compare::Reference);
+        else w_.setCompare(WindowState::Compare::Technique, against);
+    }
+    TaskBuffers readTaskBuffers(bool withReference) override {
+        glm::ivec2 size = w_.renderSize();
+        Renderer& r = *w_.renderer_;
+        if (r.width() != size.x || r.height() != size.y) r.resize(size.x, size.y);
+        r.renderFrame(w_.frameIndex_, {"image", "visibility"});
+        TaskBuffers b;
+        b.visibility = r.visibility();
+        b.ids = r.ids();
+        if (!withReference) return b;
+        if (referenceTechnique_ == "reference") {
+            ProgressiveReference& ref = w_.reference_;
+            ref.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
+                     w_.state_.referenceSamples);
+            w_.referenceVersion_ = w_.version_;
+            while (!ref.complete()) ref.step(1e9);
+            b.reference = ref.visibility();
+        } else {
+            RenderOptions options;
+            options.width = size.x;
+            options.height = size.y;
+            options.technique = referenceTechnique_;
+            options.sets = referenceParams_;
+            Renderer reference(*w_.scene_, options);
+            for (size_t i = 0; i < w_.state_.lights.size(); ++i) reference.setLight(i, w_.state_.lights[i]);
+            reference.setCamera(w_.state_.camera);
+            reference.renderFrame(0, {"visibility"});
+            b.reference = reference.visibility();
+        }
+        return b;
+    }
+
+private:
+    Window& w_;
+    bool referenceShown_ = false, texelsShown_ = false;
+    std::string referenceTechnique_ = "reference";
+    std::vector<std::pair<std::string, std::string>> referenceParams_;
+};
+
+void Window::openLesson(Lesson lesson) {
+    lesson_.reset();
+    lessonHost_ = std::make_unique<WindowLessonHost>(*this);
+    lesson_ = std::make_unique<LessonPlayer>(std::move(lesson), *lessonHost_);  // applies step 1
+    setStatus("lesson " + lesson_->lesson().title);
+}
+
+bool Window::lessonKey(int key) const {
+    if (!lesson_) return false;
+    switch (key) {
+    case GLFW_KEY_RIGHT:
+    case GLFW_KEY_LEFT:
+    case GLFW_KEY_PAGE_UP:
+    case GLFW_KEY_PAGE_DOWN:
+    case GLFW_KEY_SPACE:
+    case GLFW_KEY_R:
+    case GLFW_KEY_C:
+    case GLFW_KEY_M: return true;  // the lesson panel reads these (app/lesson/panel.cpp)
+    default: return false;
+    }
+}
+
+void Window::lessonAction(const std::string& action) {
+    if (!lesson_) {
+        setStatus("no lesson is open (shadowlab lesson L, or window --lesson L)", true);
+        return;
+    }
+    if (action == "next") lesson_->next();
+    else if (action == "previous") lesson_->previous();
+    else if (action == "restore") lesson_->restore();
+    else if (action == "check" && lesson_->step().task) {
+        const LessonPlayer::Feedback& f = lesson_->checkTask();
+        bool passed = f.status == LessonPlayer::TaskStatus::Passed || f.status == LessonPlayer::TaskStatus::ShownAnswer;
+        setStatus(std::string(passed ? "solved: " : "not yet: ") + f.message, !passed);
+        std::printf("lesson: step %zu: %s: %s\n", lesson_->stepIndex() + 1, passed ? "passed" : "not yet", f.message.c_str());
+        std::fflush(stdout);
+    } else if (action == "show-me" && lesson_->step().task) lesson_->showMe();
+}
+
+void Window::drawLesson(double seconds) {
+    if (!lesson_) return;
+    lesson_->update(seconds);
+    const float s = state_.uiScale;
+    glm::vec2 size = windowSize();
+    // Right of the panel, below the HUD (top right), above the views panel (bottom right).
+    ImGui::SetNextWindowPos(ImVec2(size.x - 460 * s - 8 * s, 120 * s), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(460 * s, std::max(200 * s, std::min(size.y - 250 * s, 520 * s))), ImGuiCond_FirstUseEver);
+    drawLessonPanel(*lesson_, 1.3f);
+}
+
+}  // namespace shadowlab

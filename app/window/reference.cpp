@@ -1,0 +1,134 @@
+// The window's progressive reference: the `reference` technique's N stratified light samples, run a
+// few per frame instead of all in one frame (which froze the window for a minute on llvmpipe).
+// Each sample is the `hard` technique with every light moved to its sample point (the same points
+// and weights as techniques/reference: shared::stratifiedSample with seed light index + 1); the
+// visibility and the linear shaded image are added with the sample's weight into float textures on
+// the GPU (shaders/window/accumulate.frag), so a sample costs one `hard` frame and no read-back.
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+
+#include "shared/shared.h"
+#include "window/window.h"
+
+namespace shadowlab {
+
+namespace {
+
+bool sameLight(const Light& a, const Light& b) {
+    return a.shape == b.shape && a.position == b.position && a.direction == b.direction && a.up == b.up &&
+           a.size == b.size && a.color == b.color && a.intensity == b.intensity && a.castsShadows == b.castsShadows;
+}
+
+// The order the samples run in: k -> (k * stride) mod n with stride coprime to n near n / golden
+// ratio, so any prefix spreads over the whole light (the strata are numbered row by row: in index
+// order the first samples all sit on one edge). The complete sum is the same set of samples.
+uint32_t sampleOrder(uint32_t k, uint32_t n) {
+    uint32_t stride = std::max(1u, uint32_t(double(n) * 0.6180339887));
+    while (std::gcd(stride, n) != 1) ++stride;
+    return uint32_t((uint64_t(k) * stride) % n);
+}
+
+bool sameCamera(const Camera& a, const Camera& b) {
+    return a.position == b.position && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees &&
+           a.nearPlane == b.nearPlane && a.farPlane == b.farPlane;
+}
+
+}  // namespace
+
+void ProgressiveReference::cancel() {
+    renderer_.reset();
+    scene_ = nullptr;
+    done_ = total_ = 0;
+    ++generation_;
+}
+
+void ProgressiveReference::sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width,
+                                int height, double time, int samples) {
+    bool same = renderer_ && scene_ == &scene && sameCamera(camera, camera_) && width == width_ && height == height_ &&
+                time == time_ && samples == total_ && lights.size() == lights_.size();
+    for (size_t i = 0; same && i < lights.size(); ++i) same = sameLight(lights[i], lights_[i]);
+    if (same) return;
+    ++generation_;
+    if (!renderer_ || scene_ != &scene) {
+        renderer_.reset();
+        RenderOptions options;
+        options.width = width;
+        options.height = height;
+        options.technique = "hard";
+        options.cpuClock = true;
+        renderer_ = std::make_unique<Renderer>(scene, options);
+    }
+    if (renderer_->width() != width || renderer_->height() != height) renderer_->resize(width, height);
+    renderer_->setCamera(camera);
+    if (!imageSum_ || imageSum_.width() != width || imageSum_.height() != height) {
+        imageSum_ = Texture::create2D(width, height, Format::RGBA32F);
+        visibilitySum_ = Texture::create2D(width, height, Format::R32F);
+        sums_ = Framebuffer({&imageSum_, &visibilitySum_}, nullptr);
+    }
+    const float zero[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(sums_.id(), GL_COLOR, 0, zero);
+    glClearNamedFramebufferfv(sums_.id(), GL_COLOR, 1, zero);
+    scene_ = &scene;
+    camera_ = camera;
+    lights_ = lights;
+    width_ = width;
+    height_ = height;
+    time_ = time;
+    total_ = samples;
+    done_ = 0;
+    weightSum_ = 0.0;
+}
+
+int ProgressiveReference::step(double budgetMs) {
+    if (!renderer_ || complete()) return 0;
+    auto start = std::chrono::steady_clock::now();
+    int ran = 0;
+    while (done_ < total_) {
+        auto t0 = std::chrono::steady_clock::now();
+        // Every light at its sample s (each light its own stratification seed, as the technique).
+        double weight = 0.0;
+        for (size_t i = 0; i < lights_.size(); ++i) {
+            const Light& l = lights_[i];
+            glm::vec3 sample = shared::stratifiedSample(sampleOrder(uint32_t(done_), uint32_t(total_)),
+                                                        uint32_t(total_), uint32_t(i + 1));
+            Light at = l;
+            if (!l.isPoint())
+                at.position = shared::lightSamplePosition(l.position, l.right(), l.up, int(l.shape), l.size,
+                                                          glm::vec2(sample.x, sample.y));
+            renderer_->setLight(i, at);
+            weight += sample.z;
+        }
+        weight /= double(std::max<size_t>(1, lights_.size()));
+        renderer_->renderFrame(int(time_ * 30.0 + 0.5), {"image", "visibility"});  // t = frame / 30
+        if (!accumulate_.id()) accumulate_ = ShaderProgram("common/fullscreen.vert", "window/accumulate.frag");
+        PipelineState::additiveBlend().apply();
+        accumulate_.use();
+        glBindTextureUnit(0, renderer_->imageTexture().id());
+        glBindTextureUnit(1, renderer_->pool().find("frame/visibility")->texture.id());
+        accumulate_.set("image", 0);
+        accumulate_.set("visibility", 1);
+        accumulate_.set("weight", float(weight));
+        sums_.bind(width_, height_);
+        drawFullscreenTriangle();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glFinish();  // the sample's cost lands here, not in the next frame
+        weightSum_ += weight;
+        ++done_;
+        ++ran;
+        auto t1 = std::chrono::steady_clock::now();
+        lastSampleMs_ = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        double spent = std::chrono::duration<double, std::milli>(t1 - start).count();
+        if (spent + lastSampleMs_ > budgetMs) break;
+    }
+    return ran;
+}
+
+Image ProgressiveReference::visibility() const {
+    Image out = readTexture(visibilitySum_, 1);
+    float norm = normalization();
+    for (float& v : out.data) v *= norm;
+    return out;
+}
+
+}  // namespace shadowlab

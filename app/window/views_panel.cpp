@@ -1,0 +1,161 @@
+// The window's views panel: the VTK views of viz/views.h (scene3d, shadow-map, internal, error),
+// each rendered by renderView() into its own VtkOffscreen frame whose texture the panel shows.
+// A view re-renders when the rendered state (version_), the picked pixel or its own orbit changed;
+// at most one per frame and never while the user drags (a view costs a VTK render on llvmpipe).
+// Dragging over a 3D view orbits it, the wheel zooms it.
+#include <imgui.h>
+
+#include <algorithm>
+
+#include "error.h"
+#include "views.h"
+#include "vtk_offscreen.h"
+#include "window/window.h"
+
+namespace shadowlab {
+
+void Window::openView(const std::string& name) {
+    std::vector<ViewInfo> all = listViews();
+    if (std::none_of(all.begin(), all.end(), [&](const ViewInfo& v) { return v.name == name; })) {
+        std::string names;
+        for (const ViewInfo& v : all) names += (names.empty() ? "" : ", ") + v.name;
+        setStatus("unknown view '" + name + "' (expected one of: " + names + ")", true);
+        return;
+    }
+    state_.showViews = true;
+    if (std::find(state_.openViews.begin(), state_.openViews.end(), name) == state_.openViews.end())
+        state_.openViews.push_back(name);
+}
+
+void Window::closeView(const std::string& name) {
+    state_.openViews.erase(std::remove(state_.openViews.begin(), state_.openViews.end(), name), state_.openViews.end());
+}
+
+void Window::syncViewList() {
+    // One OpenView per name in the state (the state is what lessons and scripts set). Runs before
+    // the UI is built: a view's texture must outlive the frame whose draw list shows it.
+    views_.erase(std::remove_if(views_.begin(), views_.end(),
+                                [&](const auto& v) {
+                                    return std::find(state_.openViews.begin(), state_.openViews.end(), v->name) ==
+                                           state_.openViews.end();
+                                }),
+                 views_.end());
+    for (const std::string& name : state_.openViews)
+        if (std::none_of(views_.begin(), views_.end(), [&](const auto& v) { return v->name == name; })) {
+            auto v = std::make_unique<OpenView>();
+            v->name = name;
+            views_.push_back(std::move(v));
+        }
+}
+
+void Window::updateViews() {
+    if (!state_.showViews || views_.empty() || interacting() || reduced_) return;
+
+    const float s = state_.uiScale;
+    const int w = int(300 * s), h = int(225 * s);
+    glm::ivec2 pixel = state_.pickedPixel.value_or(glm::ivec2(-1));
+    for (auto& v : views_) {
+        bool error = v->name == "error";
+        bool haveReference = reference_.complete() && referenceVersion_ == version_;
+        std::vector<double> key = {double(version_), double(pixel.x), double(pixel.y), v->azimuth, v->elevation,
+                                   v->zoom, double(w), double(h),
+                                   error ? double(haveReference ? reference_.generation() : ~0ull) : 0.0};
+        if (key == v->renderedKey) continue;
+        v->renderedKey = key;
+        if (error && !haveReference) {
+            v->valid = false;
+            v->refusal = "waiting for the reference (" + std::to_string(reference_.done()) + " / " +
+                         std::to_string(reference_.total()) + " samples; B turns it on)";
+            continue;
+        }
+        ViewRequest request;
+        request.view = v->name;
+        request.pixel = state_.pickedPixel;
+        request.light = std::clamp(state_.lightIndex, 0, std::max(0, int(scene_->lights.size()) - 1));
+        request.width = w;
+        request.height = h;
+        request.azimuth = v->azimuth;
+        request.elevation = v->elevation;
+        request.zoom = v->zoom;
+        if (error) {
+            if (referenceImageGeneration_ != reference_.generation()) {
+                referenceImage_ = reference_.visibility();
+                referenceImageGeneration_ = reference_.generation();
+            }
+            request.reference = &referenceImage_;
+        }
+        try {
+            std::string why = viewRefusal(*renderer_, request);
+            if (!why.empty()) {
+                v->valid = false;
+                v->refusal = why;
+                continue;
+            }
+            if (!v->frame) v->frame = std::make_unique<VtkOffscreen>(w, h);
+            ViewResult result = renderView(*renderer_, *scene_, request, *v->frame);
+            v->caption = result.caption;
+            v->refusal.clear();
+            v->valid = true;
+        } catch (const InputError& e) {
+            v->valid = false;
+            v->refusal = e.what();
+        }
+        break;  // one view per frame: the UI stays responsive
+    }
+}
+
+void Window::drawViewsPanel() {
+    const float s = state_.uiScale;
+    glm::vec2 size = windowSize();
+    ImGui::SetNextWindowPos(ImVec2(size.x - 8 * s, size.y - 8 * s), ImGuiCond_Always, ImVec2(1, 1));
+    ImGui::SetNextWindowBgAlpha(0.92f);
+    ImGui::Begin("Views (V)", &state_.showViews, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
+    if (ImGui::BeginCombo("open a view", "...")) {
+        for (const ViewInfo& info : listViews()) {
+            if (ImGui::Selectable(info.name.c_str())) openView(info.name);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\napplies to: %s", info.doc.c_str(), info.appliesTo.c_str());
+        }
+        ImGui::EndCombo();
+    }
+    if (!state_.pickedPixel) ImGui::TextDisabled("Ctrl+click in the view picks the pixel the views show");
+    std::string toClose;
+    bool first = true;
+    for (auto& v : views_) {  // side by side along the bottom, clear of the HUD and the panel
+        ImGui::PushID(v->name.c_str());
+        if (!first) ImGui::SameLine();
+        first = false;
+        ImGui::BeginGroup();
+        ImGui::TextUnformatted(v->name.c_str());
+        ImGui::SameLine();
+        if (ImGui::SmallButton("close")) toClose = v->name;
+        if (v->valid && v->frame) {
+            ImVec2 picture(float(v->frame->width()), float(v->frame->height()));
+            // GL's row 0 is the bottom: flip v.
+            ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v->frame->texture())), picture,
+                         ImVec2(0, 1), ImVec2(1, 0));
+            if (v->name == "scene3d" && ImGui::IsItemHovered()) {
+                ImGuiIO& io = ImGui::GetIO();
+                if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+                    v->azimuth -= io.MouseDelta.x * 0.5f;
+                    v->elevation = std::clamp(v->elevation + io.MouseDelta.y * 0.5f, -89.0f, 89.0f);
+                }
+                if (io.MouseWheel != 0.0f) v->zoom = std::clamp(v->zoom * (io.MouseWheel > 0 ? 1.1f : 1.0f / 1.1f), 0.1f, 20.0f);
+            }
+            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + picture.x);
+            ImGui::TextUnformatted(v->caption.c_str());
+            ImGui::PopTextWrapPos();
+        } else if (!v->refusal.empty()) {
+            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 300 * s);
+            ImGui::TextDisabled("%s", v->refusal.c_str());
+            ImGui::PopTextWrapPos();
+        } else {
+            ImGui::TextDisabled("rendering ...");
+        }
+        ImGui::EndGroup();
+        ImGui::PopID();
+    }
+    if (!toClose.empty()) closeView(toClose);
+    ImGui::End();
+}
+
+}  // namespace shadowlab

@@ -1,0 +1,810 @@
+// The window: the loop, the renderers, the technique view (present), the overlay of the light and
+// the split, screenshots; runWindow (`shadowlab window`) and runDefault (`shadowlab` with no
+// arguments, with a headless fallback when no display is there). See window.h for the structure.
+#include "gl/loader.h"  // before GLFW, which must not include GL/gl.h
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "cli/cli.h"
+#include "error.h"
+#include "gl/context.h"
+#include "lesson/lesson.h"
+#include "lesson/player.h"
+#include "scene/light_view.h"
+#include "vtk_offscreen.h"
+#include "window/camera_control.h"
+#include "window/window.h"
+
+namespace shadowlab {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+bool isGltf(const std::string& path) { return endsWith(path, ".gltf") || endsWith(path, ".glb"); }
+
+ImU32 rgba(int r, int g, int b, int a = 255) { return IM_COL32(r, g, b, a); }
+
+// An output's folder must exist (nothing is created half-way); checked before the window opens.
+void checkOutputPath(const std::string& flag, const std::string& path) {
+    if (path.empty()) throw InputError("window: " + flag + ": expected a file path");
+    fs::path parent = fs::path(path).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent))
+        throw InputError("window: " + flag + ": folder '" + parent.string() + "' does not exist");
+    if (fs::is_directory(path)) throw InputError("window: " + flag + ": '" + path + "' is a folder, expected a file path");
+}
+
+}  // namespace
+
+Scene makeGltfScene(const std::string& path) {
+    if (!fs::exists(path)) throw InputError(path + ": no such file");
+    Scene scene;
+    scene.name = fs::path(path).stem().string();
+    scene.path = path;
+    scene.description = "glTF file " + path + " on a ground quad under a square light";
+    Object model;
+    model.name = scene.name;
+    model.source = "gltf:" + path;
+    model.id = 1;
+    model.mesh = loadGltfMesh(path);
+    if (model.mesh.indices.empty()) throw InputError(path + ": the glTF file holds no triangles");
+    Bounds b;
+    for (const glm::vec3& p : model.mesh.positions) b.extend(p);
+    glm::vec3 centre = 0.5f * (b.lo + b.hi);
+    float extent = std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z, 1e-3f});
+    // Scaled to 2 world units, standing on the ground at the origin.
+    float scale = 2.0f / extent;
+    model.worldFromObject = glm::mat4(1.0f);
+    model.worldFromObject[0][0] = model.worldFromObject[1][1] = model.worldFromObject[2][2] = scale;
+    model.worldFromObject[3] = glm::vec4(-scale * centre.x, -scale * b.lo.y, -scale * centre.z, 1.0f);
+    Object ground;
+    ground.name = "ground";
+    ground.source = "quad";
+    ground.id = 0;
+    ground.mesh = makeQuad(8.0f, 8.0f);
+    ground.castsShadows = false;
+    scene.objects = {ground, model};
+    Light light;
+    light.name = "key";
+    light.position = {0.5f, 5.0f, 0.5f};
+    light.size = 1.0f;
+    scene.lights = {light};
+    scene.camera.position = {0.0f, 3.5f, 6.0f};
+    scene.camera.target = {0.0f, 0.8f, 0.0f};
+    return scene;
+}
+
+// ---- the Window ---------------------------------------------------------------------------------------
+
+Window::Window(GLFWwindow* window, WindowState state, bool software)
+    : window_(window), state_(std::move(state)), software_(software) {
+    for (const TechniqueDesc* d : allTechniques()) techniques_.push_back(d->id);
+    scenes_ = listScenes();
+    present_ = ShaderProgram("common/fullscreen.vert", "window/present.frag");
+    errorDummy_ = Texture::create2D(1, 1, Format::R32F);
+    if (const TechniqueDesc* ref = findTechnique("reference"))
+        if (const ParamDesc* p = ref->findParam("samples")) state_.referenceSamples = int(p->defaultValue);
+    if (!rebuildScene()) throw InputError("window: " + status_);
+}
+
+Window::~Window() = default;
+
+glm::vec2 Window::windowSize() const {
+    int w = 1, h = 1;
+    glfwGetWindowSize(window_, &w, &h);
+    return glm::vec2(std::max(1, w), std::max(1, h));
+}
+
+float Window::aspect() const {
+    glm::vec2 s = windowSize();
+    return s.x / s.y;
+}
+
+glm::ivec2 Window::renderSize() const {
+    int w = 1, h = 1;
+    glfwGetFramebufferSize(window_, &w, &h);
+    return glm::ivec2(std::max(1, w), std::max(1, h));
+}
+
+bool Window::interacting() const {
+    // Moving the split changes no rendered state: the technique and the reference stay as they are.
+    if (drag_ != Drag::None && drag_ != Drag::Split) return true;
+    if (ImGui::GetCurrentContext() && ImGui::IsAnyItemActive()) return true;
+    return std::chrono::duration<double>(clock::now() - lastInput_).count() < 0.15;
+}
+
+void Window::setStatus(const std::string& text, bool error) {
+    status_ = text;
+    statusError_ = error;
+    statusTime_ = clock::now();
+    if (error) std::fprintf(stderr, "shadowlab window: %s\n", text.c_str());
+}
+
+bool Window::rebuildScene() {
+    std::unique_ptr<Scene> scene;
+    try {
+        scene = std::make_unique<Scene>(isGltf(state_.scene) ? makeGltfScene(state_.scene) : loadScene(state_.scene));
+    } catch (const InputError& e) {
+        setStatus(e.what(), true);
+        return false;
+    }
+    compareRenderer_.reset();
+    reference_.cancel();
+    renderer_.reset();
+    scene_ = std::move(scene);
+    state_.camera = scene_->camera;
+    state_.lights = scene_->lights;
+    state_.lightIndex = std::clamp(state_.lightIndex, 0, std::max(0, int(state_.lights.size()) - 1));
+    RenderOptions options;
+    glm::ivec2 size = renderSize();
+    options.width = size.x;
+    options.height = size.y;
+    options.technique = state_.technique == "reference" ? "hard" : state_.technique;
+    options.cpuClock = true;
+    renderer_ = std::make_unique<Renderer>(*scene_, options);
+    for (const auto& [key, value] : state_.params) {
+        try {
+            renderer_->setParam(key, value, -1, "window");
+        } catch (const InputError& e) {
+            setStatus(e.what(), true);
+        }
+    }
+    std::string title = "shadowlab - " + scene_->name + " - " + state_.technique + "   (F1: keys)";
+    glfwSetWindowTitle(window_, title.c_str());
+    touch();
+    return true;
+}
+
+// ---- actions ------------------------------------------------------------------------------------------
+
+void Window::selectScene(const std::string& nameOrPath) {
+    std::string previous = state_.scene;
+    state_.scene = nameOrPath;
+    state_.pickedPixel.reset();
+    if (!rebuildScene()) {
+        state_.scene = previous;  // the old scene stays loaded
+        return;
+    }
+    if (std::find(scenes_.begin(), scenes_.end(), nameOrPath) == scenes_.end()) scenes_.push_back(nameOrPath);
+    setStatus("scene " + scene_->name);
+}
+
+void Window::selectTechnique(const std::string& id) {
+    const TechniqueDesc* desc = findTechnique(id);
+    if (!desc) {
+        setStatus("unknown technique '" + id + "'", true);
+        return;
+    }
+    if (id == "raytraced") {
+        setStatus("raytraced is the CPU ray tracer (seconds per frame): use `shadowlab render --technique raytraced`",
+                  true);
+        return;
+    }
+    state_.technique = id;
+    state_.params.clear();  // setTechnique starts at the technique's defaults
+    renderer_->setTechnique(id == "reference" ? "hard" : id);
+    std::string title = "shadowlab - " + scene_->name + " - " + id + "   (F1: keys)";
+    glfwSetWindowTitle(window_, title.c_str());
+    setStatus("technique " + id);
+    touch();
+}
+
+void Window::setParam(const std::string& key, const std::string& value) {
+    if (state_.technique == "reference") {
+        if (key == "samples") {
+            try {
+                ParamValues check(*findTechnique("reference"));
+                check.set(*findTechnique("reference"), key, value, "window");
+                state_.referenceSamples = check.getInt("samples");
+                state_.params[key] = value;
+                touch();
+            } catch (const InputError& e) {
+                setStatus(e.what(), true);
+            }
+        } else {
+            setStatus("the progressive reference uses the reference's shadow-map defaults; '" + key +
+                          "' applies to `shadowlab render --technique reference`",
+                      true);
+        }
+        return;
+    }
+    try {
+        renderer_->setParam(key, value, -1, "window");
+        state_.params[key] = value;
+        touch();
+    } catch (const InputError& e) {
+        setStatus(e.what(), true);
+    }
+}
+
+void Window::resetParam(const std::string& key) {
+    const TechniqueDesc* desc = findTechnique(state_.technique);
+    const ParamDesc* p = desc ? desc->findParam(key) : nullptr;
+    if (!p) return;
+    std::string value = p->type == ParamDesc::Type::Enum ? p->choices.at(size_t(p->defaultValue))
+                                                         : nlohmann::json(p->defaultValue).dump();
+    if (p->type == ParamDesc::Type::Int || p->type == ParamDesc::Type::Bool)
+        value = std::to_string(int64_t(std::llround(p->defaultValue)));
+    setParam(key, value);
+    state_.params.erase(key);
+}
+
+void Window::resetAllParams() {
+    std::vector<std::string> keys;
+    for (const auto& kv : state_.params) keys.push_back(kv.first);
+    for (const std::string& k : keys) resetParam(k);
+}
+
+void Window::setLight(int index, const Light& light) {
+    if (index < 0 || size_t(index) >= state_.lights.size()) return;
+    Light l = light;
+    if (glm::length(l.direction) < 1e-6f) l.direction = {0, -1, 0};
+    l.direction = glm::normalize(l.direction);
+    l.size = std::max(0.0f, l.size);
+    state_.lights[size_t(index)] = l;
+    renderer_->setLight(size_t(index), l);
+    touch();
+}
+
+void Window::resetLight() {
+    for (size_t i = 0; i < scene_->lights.size() && i < state_.lights.size(); ++i) setLight(int(i), scene_->lights[i]);
+}
+
+void Window::setCamera(const Camera& camera) {
+    state_.camera = camera;
+    renderer_->setCamera(camera);
+    touch();
+}
+
+void Window::resetCamera() { setCamera(scene_->camera); }
+
+void Window::pickPixel(glm::ivec2 pixel) {
+    glm::ivec2 size = renderSize();
+    pixel = glm::clamp(pixel, glm::ivec2(0), size - 1);
+    state_.pickedPixel = pixel;  // views re-render for it (no rendered state changes: no touch())
+    setStatus("picked pixel " + std::to_string(pixel.x) + "," + std::to_string(pixel.y));
+}
+
+void Window::setCompare(WindowState::Compare compare, const std::string& technique) {
+    if (compare == WindowState::Compare::Technique) {
+        std::string id = technique.empty() ? state_.compareTechnique : technique;
+        if (!findTechnique(id) || id == "raytraced" || id == "reference") {
+            setStatus("split: '" + id + "' is not a live technique (the reference has its own split mode)", true);
+            return;
+        }
+        if (compareRenderer_ && id != state_.compareTechnique) compareRenderer_->setTechnique(id);
+        state_.compareTechnique = id;
+    }
+    state_.compare = compare;  // what is shown, not what is rendered: no touch()
+}
+
+void Window::setErrorView(bool on) { state_.errorView = on; }
+
+void Window::setSplit(float split) { state_.split = std::clamp(split, 0.0f, 1.0f); }
+
+void Window::setReferenceSamples(int samples) {
+    state_.referenceSamples = std::clamp(samples, 1, 65536);
+    touch();
+}
+
+void Window::setUiScale(float scale) { state_.uiScale = std::clamp(scale, 0.5f, 4.0f); }
+
+void Window::cycleTechnique(int step) {
+    std::vector<std::string> live;
+    for (const std::string& t : techniques_)
+        if (t != "raytraced") live.push_back(t);
+    auto it = std::find(live.begin(), live.end(), state_.technique);
+    size_t i = it == live.end() ? 0 : size_t(it - live.begin());
+    selectTechnique(live[(i + live.size() + size_t(step + int(live.size()))) % live.size()]);
+}
+
+void Window::cycleScene(int step) {
+    auto it = std::find(scenes_.begin(), scenes_.end(), state_.scene);
+    size_t i = it == scenes_.end() ? 0 : size_t(it - scenes_.begin());
+    selectScene(scenes_[(i + scenes_.size() + size_t(step + int(scenes_.size()))) % scenes_.size()]);
+}
+
+void Window::screenshot(const std::string& path) { pendingShots_.push_back(path); }
+
+// ---- rendering ----------------------------------------------------------------------------------------
+
+void Window::renderViews() {
+    glm::ivec2 full = renderSize();
+    // Heavy: the last full-resolution render of a changed state took more than 15 ms. The factor
+    // divides the pixel count so the estimate fits 15 ms, at most 1 / reduceFactor per side.
+    double estimate = fullRenderMs_ < 0 ? (software_ ? 60.0 : 0.0) : fullRenderMs_;
+    int factor = std::clamp(int(std::ceil(std::sqrt(estimate / 15.0))), 1, std::max(1, state_.reduceFactor));
+    bool reduce = state_.reduceWhileDragging && interacting() && factor > 1 && pendingShots_.empty();
+    glm::ivec2 size = reduce ? glm::max(glm::ivec2(1), full / factor) : full;
+    if (renderer_->width() != size.x || renderer_->height() != size.y) renderer_->resize(size.x, size.y);
+    reduced_ = reduce;
+    if (state_.playing) {
+        ++frameIndex_;
+        touch();
+    }
+    state_.time = frameIndex_ / 30.0;
+
+    auto t0 = clock::now();
+    renderer_->renderFrame(frameIndex_, {"image", "visibility"});
+    glFinish();
+    renderMs_ = msSince(t0);
+    if (!reduce && renderMs_ > 1.0) fullRenderMs_ = renderMs_;  // a frame that ran passes (not all reused)
+
+    if (state_.compare == WindowState::Compare::Technique) {
+        static uint64_t syncedVersion = ~0ull;
+        if (!compareRenderer_) {
+            RenderOptions options;
+            options.width = size.x;
+            options.height = size.y;
+            options.technique = state_.compareTechnique;
+            compareRenderer_ = std::make_unique<Renderer>(*scene_, options);
+            syncedVersion = ~0ull;
+        }
+        if (syncedVersion != version_) {
+            if (compareRenderer_->width() != size.x || compareRenderer_->height() != size.y)
+                compareRenderer_->resize(size.x, size.y);
+            compareRenderer_->setCamera(state_.camera);
+            for (size_t i = 0; i < state_.lights.size(); ++i) compareRenderer_->setLight(i, state_.lights[i]);
+            syncedVersion = version_;
+        }
+        compareRenderer_->renderFrame(frameIndex_, {"image"});
+    }
+
+    bool needReference = state_.backgroundReference || state_.compare == WindowState::Compare::Reference ||
+                         state_.errorView || state_.technique == "reference";
+    if (!needReference) {
+        if (reference_.active()) reference_.cancel();
+    } else if (!interacting() && pendingShots_.empty() &&
+               (std::chrono::duration<double>(clock::now() - lastInput_).count() > 0.5 || scriptWaitReference_ > 0)) {
+        // Half a second without input first: a sample can cost more than a frame on llvmpipe, and a
+        // pause between two drags should not wait for one.
+        reference_.sync(*scene_, state_.camera, state_.lights, full.x, full.y, state_.time, state_.referenceSamples);
+        referenceVersion_ = version_;
+        // The UI keeps 30 fps when one sample fits: what is left of 33 ms after the technique's frame.
+        reference_.step(std::max(1.0, 30.0 - renderMs_));
+    }
+    updateMetrics();
+}
+
+void Window::updateMetrics() {
+    if (!reference_.complete() || referenceVersion_ != version_ || reduced_ || state_.technique == "reference") return;
+    if (metricsGeneration_ == reference_.generation() && metricsVersion_ == version_) return;
+    Image test = renderer_->visibility();
+    Image ref = reference_.visibility();
+    if (test.width != ref.width || test.height != ref.height) return;
+    metricsAll_ = computeMetrics(test, ref);
+    std::vector<uint8_t> mask = penumbraMask(ref);
+    metricsPenumbra_ = computeMetrics(test, ref, &mask);
+    metricsGeneration_ = reference_.generation();
+    metricsVersion_ = version_;
+    recordAccuracyPoint();
+}
+
+// The technique view is composed (present.frag: split, error, sRGB encoding) into a cached RGBA8
+// image at the render's resolution, only when what it shows changed, then scaled to the window with
+// a blit: on llvmpipe a full-window shader pass per frame cost more than a reduced render.
+void Window::present() {
+    glm::ivec2 fb = renderSize();
+    glm::ivec2 size(renderer_->width(), renderer_->height());
+    bool referenceShown = reference_.active() && reference_.done() > 0 && referenceVersion_ == version_;
+    GLuint a = renderer_->imageTexture().id(), b = a;
+    float scaleA = 1.0f, scaleB = 1.0f;
+    int mode = 0;
+    if (state_.technique == "reference" && referenceShown) {
+        a = reference_.imageSum().id();
+        scaleA = reference_.normalization();
+        size = glm::ivec2(reference_.imageSum().width(), reference_.imageSum().height());
+    }
+    if (state_.errorView) {
+        if (referenceShown) {
+            a = renderer_->pool().find("frame/visibility")->texture.id();
+            b = reference_.visibilitySum().id();
+            scaleA = 1.0f;
+            scaleB = reference_.normalization();
+            mode = 2;
+        }
+    } else if (state_.compare == WindowState::Compare::Reference && referenceShown) {
+        b = reference_.imageSum().id();
+        scaleB = reference_.normalization();
+        mode = 1;
+    } else if (state_.compare == WindowState::Compare::Technique && compareRenderer_) {
+        b = compareRenderer_->imageTexture().id();
+        mode = 1;
+    }
+    if (mode != 0) size = fb;  // two images (possibly of two sizes) meet at the split: compose at window size
+    std::vector<double> key = {double(version_), double(frameIndex_), double(a), double(b), double(mode),
+                               double(size.x), double(size.y), state_.split, state_.errorScale,
+                               double(reference_.done()), double(reference_.generation()), renderMs_ > 0.5 ? double(++presentCount_) : 0.0};
+    if (!viewCache_ || viewCache_.width() != size.x || viewCache_.height() != size.y) {
+        viewCache_ = Texture::create2D(size.x, size.y, Format::RGBA8);
+        viewCacheFbo_ = Framebuffer({&viewCache_}, nullptr);
+        presentKey_.clear();
+    }
+    if (key != presentKey_) {
+        viewCacheFbo_.bind(size.x, size.y);
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_BLEND);
+        glDisable(GL_SCISSOR_TEST);
+        glDisable(GL_STENCIL_TEST);
+        glDisable(GL_CULL_FACE);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        present_.use();
+        glBindTextureUnit(0, a);
+        glBindTextureUnit(1, b);
+        present_.set("imageA", 0);
+        present_.set("imageB", 1);
+        present_.set("mode", mode);
+        present_.set("split", state_.split);
+        present_.set("viewSize", glm::vec2(size));
+        present_.set("errorScale", state_.errorScale);
+        present_.set("scaleA", scaleA);
+        present_.set("scaleB", scaleB);
+        drawFullscreenTriangle();
+        glBindTextureUnit(0, 0);
+        glBindTextureUnit(1, 0);
+        presentKey_ = key;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, fb.x, fb.y);
+    glDisable(GL_SCISSOR_TEST);
+    glBlitNamedFramebuffer(viewCacheFbo_.id(), 0, 0, 0, size.x, size.y, 0, 0, fb.x, fb.y, GL_COLOR_BUFFER_BIT,
+                           size == fb ? GL_NEAREST : GL_LINEAR);
+}
+
+void Window::drawOverlay() {
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
+    glm::vec2 size = windowSize();
+    float aspectRatio = size.x / size.y;
+    float s = state_.uiScale;
+    auto project = [&](const glm::vec3& p) { return projectToWindow(state_.camera, aspectRatio, p, size); };
+    auto line = [&](const glm::vec3& p, const glm::vec3& q, ImU32 colour, float width) {
+        auto a = project(p), b = project(q);
+        if (a && b) draw->AddLine(ImVec2(a->x, a->y), ImVec2(b->x, b->y), colour, width);
+    };
+    if (state_.showLight) {
+        for (size_t i = 0; i < state_.lights.size(); ++i) {
+            const Light& l = state_.lights[i];
+            bool selected = int(i) == state_.lightIndex;
+            ImU32 colour = selected ? rgba(255, 220, 60) : rgba(200, 200, 200, 200);
+            std::vector<glm::vec3> outline = lightOutline(l);
+            for (size_t k = 0; k < outline.size(); ++k) line(outline[k], outline[(k + 1) % outline.size()], colour, 2.0f * s);
+            if (auto c = project(l.position)) {
+                draw->AddCircleFilled(ImVec2(c->x, c->y), 4.0f * s, colour);
+                draw->AddCircle(ImVec2(c->x, c->y), 7.0f * s, rgba(0, 0, 0, 160), 0, 1.5f * s);
+            }
+            if (state_.showFrustum && l.castsShadows) {
+                LightView v = fitLightView(l, l.position, scene_->bounds(state_.time));
+                std::vector<glm::vec3> c = frustumCorners(l.position, l, v.tanHalfFov, v.nearZ, v.farZ);
+                ImU32 fc = rgba(90, 200, 255, 200);
+                for (int k = 0; k < 4; ++k) {
+                    line(c[k], c[(k + 1) % 4], fc, 1.5f * s);
+                    line(c[4 + k], c[4 + (k + 1) % 4], fc, 1.5f * s);
+                    line(l.position, c[4 + k], fc, 1.0f * s);
+                }
+            }
+        }
+    }
+    if (state_.compare != WindowState::Compare::None && !state_.errorView) {
+        float x = state_.split * size.x;
+        draw->AddLine(ImVec2(x, 0), ImVec2(x, size.y), rgba(255, 255, 255, 220), 2.0f * s);
+        draw->AddCircleFilled(ImVec2(x, size.y * 0.5f), 8.0f * s, rgba(255, 255, 255, 220));
+    }
+    if (state_.pickedPixel) {
+        glm::ivec2 fb = renderSize();
+        glm::vec2 p = (glm::vec2(*state_.pickedPixel) + 0.5f) * size / glm::vec2(fb);
+        ImU32 c = rgba(255, 60, 200);
+        draw->AddLine(ImVec2(p.x - 10 * s, p.y), ImVec2(p.x - 3 * s, p.y), c, 2.0f * s);
+        draw->AddLine(ImVec2(p.x + 3 * s, p.y), ImVec2(p.x + 10 * s, p.y), c, 2.0f * s);
+        draw->AddLine(ImVec2(p.x, p.y - 10 * s), ImVec2(p.x, p.y - 3 * s), c, 2.0f * s);
+        draw->AddLine(ImVec2(p.x, p.y + 3 * s), ImVec2(p.x, p.y + 10 * s), c, 2.0f * s);
+    }
+}
+
+double Window::frame() {
+    auto t0 = clock::now();
+    runScriptStep();
+
+    static float appliedScale = 0.0f;
+    if (appliedScale != state_.uiScale) {
+        ImGuiIO& io = ImGui::GetIO();
+        io.Fonts->Clear();
+        ImFontConfig config;
+        config.SizePixels = std::round(13.0f * state_.uiScale);
+        io.Fonts->AddFontDefault(&config);
+        ImGui_ImplOpenGL3_DestroyFontsTexture();
+        ImGui_ImplOpenGL3_CreateFontsTexture();
+        ImGuiStyle style;
+        ImGui::StyleColorsDark(&style);
+        style.WindowRounding = 4.0f;
+        style.ScaleAllSizes(state_.uiScale);
+        ImGui::GetStyle() = style;
+        appliedScale = state_.uiScale;
+    }
+    auto phase = clock::now();
+    auto lap = [&](double& ms) {
+        glFinish();
+        ms = msSince(phase);
+        phase = clock::now();
+    };
+    syncViewList();
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    drawUi();
+    {
+        auto now = clock::now();
+        double seconds = lessonClock_ == clock::time_point{} ? 0.0 : std::chrono::duration<double>(now - lessonClock_).count();
+        lessonClock_ = now;
+        drawLesson(seconds);
+    }
+    drawAccuracyChart();
+    lap(phaseMs_[0]);
+    renderViews();
+    updateViews();
+    lap(phaseMs_[1]);
+    present();
+    drawOverlay();
+    lap(phaseMs_[2]);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    lap(phaseMs_[3]);
+    for (const std::string& path : pendingShots_) takeScreenshot(path);
+    pendingShots_.clear();
+    glfwSwapBuffers(window_);
+    lap(phaseMs_[4]);
+    frameMs_ = msSince(t0);
+    uiFps_ = uiFps_ == 0.0 ? 1000.0 / frameMs_ : 0.9 * uiFps_ + 0.1 * (1000.0 / frameMs_);
+    return frameMs_;
+}
+
+void Window::takeScreenshot(const std::string& path) {
+    glm::ivec2 fb = renderSize();
+    std::vector<unsigned char> rgb(size_t(fb.x) * fb.y * 3);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glReadPixels(0, 0, fb.x, fb.y, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+    Image shot(fb.x, fb.y, 3);
+    for (int y = 0; y < fb.y; ++y)
+        for (int x = 0; x < fb.x; ++x)
+            for (int c = 0; c < 3; ++c) shot.at(x, y, c) = rgb[(size_t(fb.y - 1 - y) * fb.x + x) * 3 + c] / 255.0f;
+    try {
+        OutputSet outputs;
+        if (endsWith(path, ".pfm")) writePFM(outputs.stage(path), shot);  // for tests: no PNG reader in the core
+        else writePNG(outputs.stage(path), shot);
+        outputs.commit();
+        if (scriptDone_) setStatus("screenshot " + path);  // a script's shots stay out of the next one
+        std::printf("shadowlab window: screenshot %s (%dx%d)\n", path.c_str(), fb.x, fb.y);
+        std::fflush(stdout);
+    } catch (const std::exception& e) {
+        setStatus(std::string("screenshot failed: ") + e.what(), true);
+    }
+}
+
+std::string Window::lastFrameReport() const {
+    glm::ivec2 size = renderer_ ? glm::ivec2(renderer_->width(), renderer_->height()) : glm::ivec2(0);
+    nlohmann::json j{{"frame_ms", frameMs_}, {"render_ms", renderMs_}, {"reduced", reduced_},
+                     {"interacting", interacting()}, {"render_size", {size.x, size.y}},
+                     {"reference_samples", reference_.done()},
+                     {"phases_ms", {{"ui", phaseMs_[0]}, {"render_and_reference", phaseMs_[1]}, {"present", phaseMs_[2]},
+                                    {"imgui_draw", phaseMs_[3]}, {"swap", phaseMs_[4]}}}};
+    if (!state_.lights.empty()) {
+        const glm::vec3& p = state_.lights[size_t(state_.lightIndex)].position;
+        j["light"] = {p.x, p.y, p.z};
+    }
+    return j.dump();
+}
+
+// ---- entry points -------------------------------------------------------------------------------------
+
+namespace {
+
+void* glfwLoader(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
+
+std::string lastGlfwError;
+void onGlfwError(int, const char* message) { lastGlfwError = message ? message : "unknown GLFW error"; }
+
+Window* windowOf(GLFWwindow* w) { return static_cast<Window*>(glfwGetWindowUserPointer(w)); }
+
+void onKey(GLFWwindow* w, int key, int, int action, int mods) {
+    if (action == GLFW_RELEASE || ImGui::GetIO().WantCaptureKeyboard) return;
+    if (Window* win = windowOf(w)) win->key(key, mods);
+}
+
+void onMouseButton(GLFWwindow* w, int button, int action, int mods) {
+    Window* win = windowOf(w);
+    if (!win) return;
+    double x = 0, y = 0;
+    glfwGetCursorPos(w, &x, &y);
+    if (action == GLFW_PRESS && ImGui::GetIO().WantCaptureMouse) return;
+    win->mouseButton(button, action == GLFW_PRESS, mods, glm::vec2(float(x), float(y)));
+}
+
+void onCursor(GLFWwindow* w, double x, double y) {
+    if (Window* win = windowOf(w)) win->mouseMove(glm::vec2(float(x), float(y)));
+}
+
+void onScroll(GLFWwindow* w, double, double dy) {
+    if (ImGui::GetIO().WantCaptureMouse) return;
+    if (Window* win = windowOf(w)) win->scroll(dy);
+}
+
+size_t indexOf(const std::vector<std::string>& list, const std::string& value, const std::string& flag) {
+    for (size_t i = 0; i < list.size(); ++i)
+        if (list[i] == value) return i;
+    std::string all;
+    for (const std::string& v : list) all += (all.empty() ? "" : ", ") + v;
+    throw InputError("window: " + flag + ": unknown value '" + value + "' (expected one of: " + all + ")");
+}
+
+int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
+    Options opts("window", args, 0,
+                 {"--scene", "--technique", "--size", "--screenshot", "--frames", "--script", "--report", "--ui-scale",
+                  "--lesson"},
+                 {"--no-reduce"});
+    if (!opts.positional().empty()) throw InputError("window: unexpected argument '" + opts.positional()[0] + "'");
+    WindowState state;
+    state.scene = opts.get("--scene", "square-occluder");
+    if (!isGltf(state.scene)) resolveScenePath(state.scene);  // InputError naming a missing scene
+    std::vector<std::string> techniques;
+    for (const TechniqueDesc* d : allTechniques()) techniques.push_back(d->id);
+    state.technique = techniques[indexOf(techniques, opts.get("--technique", "pcf"), "--technique")];
+    if (state.technique == "raytraced")
+        throw InputError("window: --technique raytraced: the CPU ray tracer takes seconds per frame; use "
+                         "`shadowlab render --technique raytraced`");
+    int width = 1024, height = 768;
+    if (opts.has("--size")) parseSize(opts.get("--size"), width, height);
+    std::string screenshot = opts.get("--screenshot");
+    if (!screenshot.empty()) checkOutputPath("--screenshot", screenshot);
+    int maxFrames = opts.getInt("--frames", screenshot.empty() ? 0 : 3, 0, 1000000);
+    state.uiScale = opts.getFloat("--ui-scale", 1.0f, 0.5f, 4.0f);
+    state.reduceWhileDragging = !opts.has("--no-reduce");
+    std::string reportPath = opts.get("--report");
+    if (!reportPath.empty()) checkOutputPath("--report", reportPath);
+    std::deque<ScriptCommand> script;
+    if (opts.has("--script")) script = parseScript(opts.get("--script"));
+    // A lesson is read and checked before the window opens: a bad one is refused (file:line, exit 2).
+    std::optional<Lesson> lesson;
+    if (opts.has("--lesson")) {
+        lesson = loadLesson(opts.get("--lesson"));
+        state.scene = lesson->steps.front().state.scene;
+    }
+
+    glfwSetErrorCallback(onGlfwError);
+    if (!glfwInit()) {
+        std::string reason = "no display: " + lastGlfwError;
+        if (fallback) return runHeadlessFallback(reason);
+        std::fprintf(stderr,
+                     "shadowlab: cannot open a window (%s). Run it under a display (or `xvfb-run -a shadowlab "
+                     "window ...`), or use the headless commands: shadowlab render --scene S --out img.png\n",
+                     reason.c_str());
+        return 2;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, GLFW_TRUE);
+    GLFWwindow* window = glfwCreateWindow(width, height, "shadowlab", nullptr, nullptr);
+    if (!window) {
+        std::string reason = "no OpenGL 4.5 core window: " + lastGlfwError;
+        glfwTerminate();
+        if (fallback) return runHeadlessFallback(reason);
+        throw InternalError("GLFW: cannot create an OpenGL 4.5 core window (" + lastGlfwError + ")");
+    }
+    glfwMakeContextCurrent(window);
+    glfwSwapInterval(0);  // frame times are the work's, not the display's; the UI is not throttled
+    initializeGLForCurrentContext(glfwLoader);
+    const GLubyte* rendererName = glGetString(GL_RENDERER);
+    bool software = rendererName && (std::string(reinterpret_cast<const char*>(rendererName)).find("llvmpipe") !=
+                                     std::string::npos);
+
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini written into the working folder
+    glfwSetKeyCallback(window, onKey);
+    glfwSetMouseButtonCallback(window, onMouseButton);
+    glfwSetCursorPosCallback(window, onCursor);
+    glfwSetScrollCallback(window, onScroll);
+    ImGui_ImplGlfw_InitForOpenGL(window, true);  // chains to the callbacks above
+    ImGui_ImplOpenGL3_Init("#version 450 core");
+
+    int result = 0;
+    {
+        std::unique_ptr<Window> win;
+        try {
+            win = std::make_unique<Window>(window, state, software);
+            if (lesson) win->openLesson(std::move(*lesson));
+            if (opts.has("--script")) win->setScript(std::move(script), opts.get("--script"));
+        } catch (...) {
+            ImGui_ImplOpenGL3_Shutdown();
+            ImGui_ImplGlfw_Shutdown();
+            ImGui::DestroyContext();
+            releaseExternalContextObjects();
+            glfwDestroyWindow(window);
+            glfwTerminate();
+            throw;
+        }
+        glfwSetWindowUserPointer(window, win.get());
+        nlohmann::json report = nlohmann::json::array();
+        for (int shown = 0; !glfwWindowShouldClose(window); ++shown) {
+            glfwPollEvents();
+            bool last = maxFrames > 0 && shown + 1 >= maxFrames;
+            if (last && !screenshot.empty()) win->screenshot(screenshot);
+            win->frame();
+            if (!reportPath.empty()) report.push_back(nlohmann::json::parse(win->lastFrameReport()));
+            if (last || (opts.has("--script") && win->scriptFinished())) glfwSetWindowShouldClose(window, GLFW_TRUE);
+        }
+        if (!reportPath.empty()) {
+            OutputSet outputs;
+            std::ofstream(outputs.stage(reportPath)) << nlohmann::json{{"frames", report}}.dump(1) << "\n";
+            outputs.commit();
+        }
+        glfwSetWindowUserPointer(window, nullptr);
+        if (win->scriptFailed()) result = 2;
+        win.reset();
+        if (glDebugState().errors > 0) {
+            std::fprintf(stderr, "shadowlab window: %d GL error(s), last: %s\n", glDebugState().errors,
+                         glDebugState().lastError.c_str());
+            result = 1;
+        }
+    }
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    releaseExternalContextObjects();
+    glfwDestroyWindow(window);
+    glfwTerminate();
+    return result;
+}
+
+}  // namespace
+
+int runWindow(const std::vector<std::string>& args) { return runWindowImpl(args, false); }
+
+// The first lesson (intro) in the window: what a new user should see first.
+int runDefault() { return runWindowImpl({"--lesson", "intro"}, true); }
+
+int runHeadlessFallback(const std::string& reason) {
+    std::error_code ec;
+    fs::path dir = fs::current_path(ec) / "shadowlab-output";
+    fs::create_directories(dir, ec);
+    if (ec || access(dir.c_str(), W_OK) != 0) {
+        dir = fs::temp_directory_path() / ("shadowlab-output-" + std::to_string(getpid()));
+        fs::create_directories(dir, ec);
+    }
+    std::string png = (dir / "square-occluder-pcf.png").string();
+    std::string stats = (dir / "square-occluder-pcf.json").string();
+    std::printf("shadowlab: no window (%s).\nInstead, rendered the default scene headless (square-occluder, pcf):\n",
+                reason.c_str());
+    std::fflush(stdout);
+    int code = runCommandLine({"render", "--scene", "square-occluder", "--technique", "pcf", "--size", "768x768",
+                               "--out", png, "--stats", stats});
+    if (code == 0) {
+        std::printf("  image: %s\n  stats: %s\nOpen the window on a display (or `xvfb-run -a shadowlab`), or see "
+                    "`shadowlab help` for the command line.\n",
+                    png.c_str(), stats.c_str());
+        return 0;
+    }
+    std::printf("The headless render failed too (see above); `shadowlab help` lists the commands.\n");
+    return 2;
+}
+
+}  // namespace shadowlab

@@ -1,0 +1,279 @@
+// The window (DESIGN.md sections 1 and 7): the technique view at the window's size with the light
+// drawn, panels generated from the technique descriptors, a HUD, a progressive reference computed a
+// few light samples per frame, split and error views, mouse camera and light control.
+//
+// Everything a user, a script or a lesson changes lives in one struct, WindowState; every change
+// goes through one method of Window (selectTechnique, setParam, setLight ...), which the panel, the
+// keys, the --script runner and (later) the lesson host all call: one code path per action.
+//
+// Files: window.cpp (loop, rendering, present, screenshots), window_ui.cpp (ImGui panels, HUD, F1),
+// window_input.cpp (keys, mouse, --script), window_reference.cpp (progressive reference),
+// camera_control.cpp (orbit/pan/zoom and picking math).
+#pragma once
+#include <chrono>
+#include <deque>
+#include <glm/glm.hpp>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "chart_accuracy_time.h"
+#include "gl/util.h"
+#include "graph/renderer.h"
+#include "image/image.h"
+#include "image/metrics.h"
+#include "scene/scene.h"
+
+struct GLFWwindow;
+
+namespace shadowlab {
+
+class VtkOffscreen;
+struct Lesson;
+class LessonPlayer;
+class LessonHost;
+class WindowLessonHost;
+
+// What the user sees and has chosen: the single source of truth for the UI, keys, scripts, lessons.
+struct WindowState {
+    std::string scene;      // a name in assets/scenes, or a path to a .json scene or a .gltf/.glb file
+    std::string technique;  // "reference" shows the progressive reference
+    std::map<std::string, std::string> params;  // parameters set away from the defaults (key -> value)
+    int lightIndex = 0;     // the light the light controls edit
+    Camera camera;          // the current camera (starts at the scene's)
+    std::vector<Light> lights;  // the current lights (start at the scene's)
+    enum class Compare { None, Reference, Technique };
+    Compare compare = Compare::None;
+    std::string compareTechnique = "hard";
+    float split = 0.5f;      // split position, fraction of the view's width (left: technique)
+    bool errorView = false;  // |technique - reference| visibility as a heat map
+    float errorScale = 0.25f;  // error shown at full colour
+    bool showLight = true;
+    bool showFrustum = false;
+    std::optional<glm::ivec2> pickedPixel;  // in the technique image, x right, y down from the top
+    bool playing = false;                   // animated scenes: time advances
+    double time = 0.0;                      // seconds
+    bool reduceWhileDragging = true;        // heavy techniques render at a reduced resolution while dragging
+    int reduceFactor = 4;                   // at most (the factor adapts to the last full render's cost)
+    bool backgroundReference = true;        // accumulate the reference whenever the input is idle
+    int referenceSamples = 1024;            // N of `reference` (its descriptor's default)
+    float uiScale = 1.0f;
+    bool showPanel = true, showHud = true, showHelp = false, showViews = false;
+    bool showAccuracy = false;  // the accuracy-time chart of the settings tried (A)
+    std::vector<std::string> openViews;  // VTK views shown in the views panel (viz/views.h names)
+};
+
+// The reference of the current state, accumulated a few light samples per frame: N stratified light
+// samples (the same points as the `reference` technique), each a hard shadow of the light at that
+// point, weighted by its stratum's area. Any change of the state it depends on restarts it.
+class ProgressiveReference {
+public:
+    // Restarts when the scene, camera, lights, size or time differ from the running accumulation.
+    void sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width, int height,
+              double time, int samples);
+    void cancel();
+    // Runs light samples until `budgetMs` of wall time is spent (at least one); returns how many ran.
+    int step(double budgetMs);
+    bool active() const { return renderer_ != nullptr; }
+    bool complete() const { return active() && done_ >= total_; }
+    int done() const { return done_; }
+    int total() const { return total_; }
+    double lastSampleMs() const { return lastSampleMs_; }
+    uint64_t generation() const { return generation_; }  // bumps on every restart
+    Image visibility() const;  // the weighted mean so far (1 channel; a read-back)
+    // The weighted sums (the mean is sum x normalization()): linear shaded image (RGBA32F, alpha =
+    // the weights) and visibility (R32F).
+    const Texture& imageSum() const { return imageSum_; }
+    const Texture& visibilitySum() const { return visibilitySum_; }
+    float normalization() const { return weightSum_ > 0.0 ? float(1.0 / weightSum_) : 0.0f; }
+
+private:
+    std::unique_ptr<Renderer> renderer_;
+    const Scene* scene_ = nullptr;
+    Camera camera_;
+    std::vector<Light> lights_;
+    int width_ = 0, height_ = 0, total_ = 0, done_ = 0;
+    double time_ = 0.0, weightSum_ = 0.0, lastSampleMs_ = 0.0;
+    uint64_t generation_ = 0;
+    Texture imageSum_, visibilitySum_;
+    Framebuffer sums_;
+    ShaderProgram accumulate_;
+};
+
+struct ScriptCommand {
+    int line = 0;
+    std::string verb;
+    std::vector<std::string> args;
+};
+
+class Window {
+public:
+    Window(GLFWwindow* window, WindowState state, bool software);
+    ~Window();
+
+    // ---- actions: the panel, keys, --script and lessons call these (each validates its input and
+    // reports a bad value in the status line, never a crash).
+    void selectScene(const std::string& nameOrPath);
+    void selectTechnique(const std::string& id);
+    void setParam(const std::string& key, const std::string& value);
+    void resetParam(const std::string& key);
+    void resetAllParams();
+    void setLight(int index, const Light& light);
+    void resetLight();
+    void setCamera(const Camera& camera);
+    void resetCamera();
+    void pickPixel(glm::ivec2 pixel);
+    void setCompare(WindowState::Compare compare, const std::string& technique = "");
+    void setErrorView(bool on);
+    void setSplit(float split);
+    void setUiScale(float scale);
+    void setReferenceSamples(int samples);  // N of the progressive reference (restarts it)
+    void cycleTechnique(int step);
+    void cycleScene(int step);
+    void screenshot(const std::string& path);  // the whole window, UI included, after this frame
+    void openView(const std::string& name);     // a VTK view of viz/views.h in the views panel
+    void closeView(const std::string& name);
+    // ---- lessons (window_lesson.cpp): the player drives the window through the actions above.
+    void openLesson(Lesson lesson);  // applies its first step
+    // "next", "previous", "restore", "check", "show-me" (the panel's buttons; --script lesson ACTION)
+    void lessonAction(const std::string& action);
+    const LessonPlayer* lesson() const { return lesson_.get(); }
+    // ---- the accuracy-time chart (window_accuracy.cpp): the settings tried against one reference.
+    void saveAccuracyPoints(const std::string& path) const;  // JSON (--script save-accuracy FILE)
+
+    // ---- input (window_input.cpp): GLFW callbacks and synthetic events from --script.
+    void key(int key, int mods);
+    void mouseButton(int button, bool press, int mods, glm::vec2 at);
+    void mouseMove(glm::vec2 at);
+    void scroll(double dy);
+    // --script FILE: parsed up front by parseScript (errors name the file and line), one step per frame.
+    void setScript(std::deque<ScriptCommand> script, const std::string& path);
+    bool scriptFinished() const { return scriptDone_; }
+    bool scriptFailed() const { return scriptFailed_; }
+
+    // One frame: script step, render, present, UI, screenshot. Returns the frame's wall time in ms.
+    double frame();
+
+    const WindowState& state() const { return state_; }
+    const std::vector<std::string>& techniques() const { return techniques_; }
+    const std::vector<std::string>& scenes() const { return scenes_; }
+    bool interacting() const;
+    glm::ivec2 renderSize() const;
+    std::string lastFrameReport() const;
+
+    static const char* helpText();  // F1: every key and mouse action
+
+private:
+    friend struct WindowUi;
+    friend class WindowLessonHost;
+    bool lessonKey(int key) const;     // a key the open lesson's panel reads (the window ignores it)
+    void drawLesson(double seconds);   // the lesson panel, and the step's animation advanced
+    void recordAccuracyPoint();        // the current setting's shadow_ms and RMSE (metrics just computed)
+    void drawAccuracyChart();
+    bool rebuildScene();  // false (status says why) when the scene does not load: the old one stays
+    void applyRendererState();
+    void renderViews();
+    void present();
+    void drawOverlay();
+    void drawUi();
+    void drawViewsPanel();
+    void runScriptStep();
+    void takeScreenshot(const std::string& path);
+    void touch() { ++version_; }  // the rendered state changed (scene, technique, parameter, light, camera)
+    void noteInput() { lastInput_ = clock::now(); }  // a drag, wheel or arrow key: render reduced for a moment
+    void updateMetrics();
+    void setStatus(const std::string& text, bool error = false);
+    glm::vec2 windowSize() const;
+    float aspect() const;
+
+    using clock = std::chrono::steady_clock;
+    GLFWwindow* window_;
+    WindowState state_;
+    bool software_;
+    std::vector<std::string> techniques_, scenes_;
+    std::unique_ptr<Scene> scene_;
+    std::unique_ptr<Renderer> renderer_, compareRenderer_;
+    ProgressiveReference reference_;
+    ShaderProgram present_;
+    Texture errorDummy_;
+    Texture viewCache_;          // the composed technique view (sRGB RGBA8), at the render's size
+    Framebuffer viewCacheFbo_;
+    std::vector<double> presentKey_;  // what the cache shows
+    uint64_t presentCount_ = 0;
+    int frameIndex_ = 0;
+    uint64_t version_ = 0;  // bumps on every change of the state
+    clock::time_point lastInput_{};
+    bool dragging_ = false;
+    enum class Drag { None, Orbit, Pan, Light, Split };
+    Drag drag_ = Drag::None;
+    glm::vec2 dragLast_{0}, dragStart_{0};
+    glm::vec3 dragLightStart_{0}, dragHitStart_{0};
+    glm::vec2 mouse_{0};
+    bool reduced_ = false;      // this frame rendered at reduced resolution
+    double fullRenderMs_ = -1;  // last full-resolution render of a changed state
+    double renderMs_ = 0, frameMs_ = 0, uiFps_ = 0;
+    double phaseMs_[5] = {0, 0, 0, 0, 0};  // ui, render (+ reference), present, ImGui draw, swap
+    nlohmann::json stats_;
+    clock::time_point statsTime_{};
+    // metrics against the reference, for (reference generation, state version)
+    std::optional<Metrics> metricsAll_, metricsPenumbra_;
+    uint64_t metricsGeneration_ = ~0ull, metricsVersion_ = ~0ull;
+    std::string status_;
+    clock::time_point statusTime_{};
+    bool statusError_ = false;
+    std::vector<std::string> pendingShots_;
+    std::string openPath_;
+    std::deque<ScriptCommand> script_;
+    std::string scriptPath_;
+    bool scriptDone_ = true;
+    bool scriptFailed_ = false;
+    bool shotArmed_ = false;
+    int scriptWait_ = 0;
+    struct ScriptDrag {
+        int button = 0, mods = 0, frames = 0, step = 0;
+        glm::vec2 from{0}, to{0};
+    };
+    std::optional<ScriptDrag> scriptDrag_;
+    int scriptWaitReference_ = 0;  // frames left to wait for the reference to complete
+    int shotCounter_ = 0;
+    float pendingScale_ = 0.0f;
+    // The views panel (window_views.cpp): one VTK frame per open view, re-rendered when the state,
+    // the picked pixel or the view's own orbit changed, one view per idle frame.
+    struct OpenView {
+        std::string name;
+        std::unique_ptr<VtkOffscreen> frame;
+        std::string caption, refusal;
+        bool valid = false;
+        std::vector<double> renderedKey;
+        float azimuth = 0.0f, elevation = 0.0f, zoom = 1.0f;
+    };
+    std::vector<std::unique_ptr<OpenView>> views_;
+    void syncViewList();
+    void updateViews();
+    std::vector<AccuracyTimePoint> accuracyPoints_;
+    uint64_t accuracyGeneration_ = ~0ull;
+    bool accuracyDirty_ = true;
+    int costFrame_ = 1 << 28;  // frame numbers of cost measurements (above any frame the window runs)
+    std::unique_ptr<VtkOffscreen> accuracyFrame_;
+    std::unique_ptr<LessonHost> lessonHost_;
+    std::unique_ptr<LessonPlayer> lesson_;
+    clock::time_point lessonClock_{};
+    Image referenceImage_;  // the complete reference's visibility, for the error view
+    uint64_t referenceImageGeneration_ = ~0ull;
+    uint64_t referenceVersion_ = ~0ull;  // version_ the reference was last synced to
+};
+
+// Reads and checks a --script file (window_input.cpp lists the steps). InputError naming file:line.
+std::deque<ScriptCommand> parseScript(const std::string& path);
+
+// Renders the default scene headless into a folder when no window can open (no display); prints
+// what it did and where. Returns the exit code (0 when the render worked).
+int runHeadlessFallback(const std::string& reason);
+
+// A scene around one glTF file: the mesh on a ground quad, a square light above it, the camera
+// looking at it from the front.
+Scene makeGltfScene(const std::string& path);
+
+}  // namespace shadowlab

@@ -1,0 +1,609 @@
+#include "graph/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "error.h"
+
+namespace shadowlab {
+
+namespace {
+
+uint64_t hashMat(const glm::mat4& m, uint64_t seed) { return hashBytes(&m[0][0], sizeof(float) * 16, seed); }
+
+// What shadows depend on: shape, pose, size, and the fitted light view. Colour and intensity are
+// versioned apart ("light.radiance"): changing them re-shades without re-running shadow passes.
+uint64_t hashLightGeometry(const Light& l, const LightView& v) {
+    uint64_t h = hashValue(int(l.shape));
+    h = hashBytes(&l.position, sizeof(glm::vec3), h);
+    h = hashBytes(&l.direction, sizeof(glm::vec3), h);
+    h = hashBytes(&l.up, sizeof(glm::vec3), h);
+    h = hashValue(l.size, h);
+    h = hashValue(l.castsShadows, h);
+    h = hashMat(v.viewFromWorld, h);
+    return hashMat(v.clipFromView, h);
+}
+
+uint64_t hashRadiance(const Light& l) {
+    uint64_t h = hashBytes(&l.color, sizeof(glm::vec3));
+    return hashValue(l.intensity, h);
+}
+
+uint64_t hashCamera(const Camera& c, int width, int height) {
+    uint64_t h = hashBytes(&c.position, sizeof(glm::vec3));
+    h = hashBytes(&c.target, sizeof(glm::vec3), h);
+    h = hashBytes(&c.up, sizeof(glm::vec3), h);
+    h = hashValue(c.fovYDegrees, h);
+    h = hashValue(c.nearPlane, h);
+    h = hashValue(c.farPlane, h);
+    return hashValue(width, hashValue(height, h));
+}
+
+bool isFrameResource(const std::string& name) {
+    return name == "gbuffer" || name == "camera" || name == "ambient" || name.rfind("scene.", 0) == 0;
+}
+
+}  // namespace
+
+Renderer::Renderer(const Scene& scene, const RenderOptions& options)
+    : scene_(scene), options_(options) {
+    if (options.width < 1 || options.height < 1 || options.width > 8192 || options.height > 8192)
+        throw InputError("--size: expected WxH with each side in 1..8192, got " + std::to_string(options.width) + "x" +
+                         std::to_string(options.height));
+    if (scene.lights.size() > size_t(kMaxLights))
+        throw InputError(scene.path + ": lights: at most " + std::to_string(kMaxLights) + " lights are supported, got " +
+                         std::to_string(scene.lights.size()));
+    if (options.lightSize && (!std::isfinite(*options.lightSize) || *options.lightSize < 0.0f))
+        throw InputError("--light-size: expected a finite number >= 0");
+
+    // Resolve each light's technique and parameters before any GL work, so bad input writes nothing.
+    std::set<std::string> usedKeys;
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        auto slot = std::make_unique<LightSlot>();
+        LightState& state = slot->state;
+        state.index = int(i);
+        state.group = "L" + std::to_string(i);
+        state.light = scene.lights[i];
+        if (options.lightSize) {
+            state.light.size = *options.lightSize;
+            if (*options.lightSize == 0.0f) state.light.shape = LightShape::Point;
+        }
+        std::string id = !options.technique.empty() ? options.technique
+                         : !state.light.technique.empty() ? state.light.technique
+                                                          : "hard";
+        std::string where = !options.technique.empty() ? "--technique"
+                                                       : scene.path + ": lights[" + std::to_string(i) + "].technique";
+        state.requested = &requireTechnique(id, where);
+        state.requestedParams = ParamValues(*state.requested);
+        for (const auto& [key, value] : options.sets) {
+            if (state.requested->findParam(key)) {
+                state.requestedParams.set(*state.requested, key, value, "--set " + key + "=" + value);
+                usedKeys.insert(key);
+            }
+        }
+        lights_.push_back(std::move(slot));
+    }
+    for (const auto& [key, value] : options.sets) {
+        if (usedKeys.count(key)) continue;
+        std::string message = "--set " + key + "=" + value + ": unknown parameter '" + key + "'";
+        std::set<std::string> ids;
+        std::string known;
+        for (const auto& l : lights_) {
+            if (!ids.insert(l->state.requested->id).second) continue;
+            for (const ParamDesc& p : l->state.requested->params) known += (known.empty() ? "" : ", ") + p.key;
+        }
+        message += std::string(ids.size() > 1 ? " (the techniques in use accept: " : " (the technique in use accepts: ") +
+                   (known.empty() ? std::string("no parameters") : known) + ")";
+        if (lights_.empty()) message = "--set " + key + ": the scene has no light, so no technique takes parameters";
+        throw InputError(message);
+    }
+
+    // GL resources.
+    gpu_ = std::make_unique<GpuScene>(scene);
+    frame_.scene = &scene;
+    frame_.gpu = gpu_.get();
+    frame_.programs = &programs_;
+    frame_.width = options.width;
+    frame_.height = options.height;
+    frame_.camera = scene.camera;
+    frame_.ambient = scene.ambient;
+    allocateFrameResources();
+    white_ = Texture(1, 1, GL_R32F);
+    const float one = 1.0f;
+    glTextureSubImage2D(white_.id(), 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &one);
+    for (auto& l : lights_) configureLight(*l);
+    if (!options_.cpuClock) glCreateQueries(GL_TIME_ELAPSED, 1, &timerQuery_);
+    buildGraph();
+}
+
+Renderer::~Renderer() {
+    if (timerQuery_) glDeleteQueries(1, &timerQuery_);
+}
+
+// ---- configuration ------------------------------------------------------------------------------------
+void Renderer::configureLight(LightSlot& slot) {
+    LightState& s = slot.state;
+    // A point light runs no soft-shadow pass: hard shadows, with the shadow-map settings.
+    bool soft = std::any_of(s.requested->passes.begin(), s.requested->passes.end(), [](const PassDesc& p) { return p.soft; });
+    if (s.light.isPoint() && soft) {
+        s.desc = &requireTechnique("hard", "internal");
+        s.params = ParamValues(*s.desc);
+        s.params.copySharedFrom(s.requestedParams);
+    } else {
+        s.desc = s.requested;
+        s.params = s.requestedParams;
+    }
+    slot.passes.clear();
+    if (s.light.castsShadows)
+        for (const PassDesc& p : s.desc->passes) slot.passes.push_back(p.create());
+}
+
+void Renderer::allocateFrameResources() {
+    int w = frame_.width, h = frame_.height;
+    auto tex = [&](const std::string& name, Format f, const std::string& doc) -> const Texture* {
+        return &pool_.ensure("frame/" + name, ResourceDesc::texture(name, f, SizeRule::frame(), doc), w, h).texture;
+    };
+    frame_.gbuffer.width = w;
+    frame_.gbuffer.height = h;
+    frame_.gbuffer.position = tex("gbuffer.position", Format::RGBA32F, "world position xyz; w = 1 on geometry, 0 on background");
+    frame_.gbuffer.normal = tex("gbuffer.normal", Format::RGBA32F, "unit world normal xyz; w = 1 when the object receives shadows");
+    frame_.gbuffer.material = tex("gbuffer.material", Format::RGBA32F, "albedo rgb; a = object id (-1 on background)");
+    frame_.gbuffer.depth = tex("gbuffer.depth", Format::DEPTH32F_STENCIL8,
+                               "camera depth and an 8-bit stencil (cleared to 0; for shadow-volume counts)");
+    const Texture* visibility = tex("visibility", Format::R32F, "the frame's visibility v, combined over the lights");
+    const Texture* image = tex("image", Format::RGBA32F, "the shaded image, linear RGB");
+    gbufferFbo_ = Framebuffer({frame_.gbuffer.position, frame_.gbuffer.normal, frame_.gbuffer.material}, frame_.gbuffer.depth);
+    shadeFbo_ = Framebuffer({visibility, image}, nullptr);
+}
+
+std::vector<size_t> Renderer::lightIndices(int light) const {
+    std::vector<size_t> out;
+    if (light >= int(lights_.size())) throw InputError("light " + std::to_string(light) + ": the scene has " +
+                                                       std::to_string(lights_.size()) + " light(s)");
+    for (size_t i = 0; i < lights_.size(); ++i)
+        if (light < 0 || size_t(light) == i) out.push_back(i);
+    return out;
+}
+
+void Renderer::buildGraph() {
+    graph_.rebuild();
+    // Frame sources; their versions are set by updateSources() before every frame.
+    for (const char* source : {"scene.objects", "scene.casters", "camera", "ambient"})
+        if (!graph_.produces(source)) graph_.setSource(source, graph_.version(source));
+
+    graph_.addPass("gbuffer", "frame", "", {"scene.objects", "camera"}, {"gbuffer"}, {}, [this] {
+        PipelineState state = PipelineState::fullscreen();
+        state.depthTest = true;
+        state.depthFunc = GL_LESS;
+        state.apply();
+        PassContext ctx(frame_, nullptr, pool_, "gbuffer", {"scene.objects", "camera"});
+        const ShaderProgram& program = programs_.get("common/gbuffer.vert", "common/gbuffer.frag");
+        float aspect = float(frame_.width) / float(frame_.height);
+        program.use();
+        program.set("viewFromWorld", ctx.camera().viewFromWorld());
+        program.set("clipFromView", ctx.camera().clipFromView(aspect));
+        gbufferFbo_.bind(frame_.width, frame_.height);
+        const float zero[4] = {0, 0, 0, 0};
+        const float background[4] = {0, 0, 0, -1};
+        const float one = 1.0f;
+        glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 1, zero);
+        glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 2, background);
+        glClearNamedFramebufferfi(gbufferFbo_.id(), GL_DEPTH_STENCIL, 0, one, 0);
+        ctx.drawScene(program, false);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    });
+
+    std::vector<std::string> shadeInputs = {"gbuffer", "ambient"};
+    for (auto& lp : lights_) {
+        LightSlot& slot = *lp;
+        LightState& l = slot.state;
+        std::string g = l.group + "/";
+        for (const char* source : {"light", "light.radiance"})
+            if (!graph_.produces(g + source)) graph_.setSource(g + source, graph_.version(g + source));
+        shadeInputs.push_back(g + "light");
+        shadeInputs.push_back(g + "light.radiance");
+        if (!l.light.castsShadows) {
+            for (const PassDesc& p : l.requested->passes)
+                graph_.addStaticSkip(g + l.requested->id + "/" + p.name, l.group, l.requested->id,
+                                     "light casts no shadows: no shadow pass, visibility 1");
+            continue;
+        }
+        if (l.desc != l.requested) {
+            for (const PassDesc& p : l.requested->passes)
+                graph_.addStaticSkip(g + l.requested->id + "/" + p.name, l.group, l.requested->id,
+                                     "point light (size 0): soft-shadow passes do not run, `hard` passes replace them");
+        }
+        for (const ParamDesc& p : l.desc->params) graph_.setSource(g + "param:" + p.key, hashValue(l.params.get(p.key)));
+        for (size_t i = 0; i < l.desc->passes.size(); ++i) {
+            const PassDesc& pass = l.desc->passes[i];
+            auto qualify = [&](const std::vector<std::string>& names) {
+                std::vector<std::string> out;
+                for (const std::string& n : names) out.push_back(isFrameResource(n) ? n : g + n);
+                return out;
+            };
+            std::vector<std::string> creates;
+            for (const ResourceDesc& r : pass.creates) creates.push_back(g + r.name);
+            graph_.addPass(g + l.desc->id + "/" + pass.name, l.group, l.desc->id, qualify(pass.reads), creates,
+                           qualify(pass.modifies), [this, &slot, i] { runTechniquePass(slot, i); });
+        }
+        shadeInputs.push_back(g + "visibility");
+    }
+
+    // Shading and the combined visibility in one pass (DESIGN.md section 3):
+    // v = sum_l v_l E_l / sum_l E_l, image = albedo * (ambient + sum_l v_l * direct_l).
+    graph_.addPass("shade", "frame", "", shadeInputs, {"visibility", "image"}, {}, [this] {
+        PipelineState::fullscreen().apply();
+        std::vector<std::string> defines = {"LIGHT_COUNT " + std::to_string(lights_.size())};
+        const ShaderProgram& program = programs_.get("common/fullscreen.vert", "common/shade.frag", defines);
+        program.use();
+        for (size_t i = 0; i < lights_.size(); ++i) {
+            const LightSlot& slot = *lights_[i];
+            const Light& light = slot.state.light;
+            std::string idx = "[" + std::to_string(i) + "]";
+            program.set(("lightPositions" + idx).c_str(), light.position);
+            program.set(("lightRadiance" + idx).c_str(), light.color * light.intensity);
+            const Resource* v = light.castsShadows ? pool_.find(slot.state.group + "/visibility") : nullptr;
+            glBindTextureUnit(GLuint(3 + i), v ? v->texture.id() : white_.id());
+            program.set(("lightVisibility" + idx).c_str(), int(3 + i));
+        }
+        PassContext ctx(frame_, nullptr, pool_, "shade", {"gbuffer", "ambient"});
+        ctx.bindGBuffer(program);
+        program.set("ambient", ctx.ambient());
+        shadeFbo_.bind(frame_.width, frame_.height);
+        drawFullscreenTriangle();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    });
+}
+
+// Allocates the pass's resources from their declarations, applies its pipeline state, and runs it
+// through a context that checks every access against the declaration.
+void Renderer::runTechniquePass(LightSlot& slot, size_t index) {
+    LightState& l = slot.state;
+    const PassDesc& pass = l.desc->passes[index];
+    std::string name = l.group + "/" + l.desc->id + "/" + pass.name;
+    std::set<std::string> declared(pass.reads.begin(), pass.reads.end());
+    for (const std::string& w : pass.writes()) declared.insert(w);
+    for (const ResourceDesc& r : pass.creates) {
+        std::string q = l.group + "/" + r.name;
+        if (!r.appliesWhen.empty() && !Condition(r.appliesWhen, *l.desc, name).holds(l.params)) {
+            pool_.release(q);
+            continue;
+        }
+        int w = 1, h = 1;
+        switch (r.size.kind) {
+            case SizeRule::Kind::Frame:
+                w = (frame_.width + r.size.scaleDown - 1) / r.size.scaleDown;
+                h = (frame_.height + r.size.scaleDown - 1) / r.size.scaleDown;
+                break;
+            case SizeRule::Kind::ShadowMap:
+                w = h = l.params.getInt(r.size.from);
+                break;
+            case SizeRule::Kind::Fixed:
+                w = r.size.width;
+                h = r.size.height;
+                break;
+            case SizeRule::Kind::Like: {
+                const Resource* other = pool_.find(l.group + "/" + r.size.from);
+                if (!other) throw InternalError(name + ": '" + r.name + "' is sized like '" + r.size.from + "', which is not allocated");
+                w = (other->width + r.size.scaleDown - 1) / r.size.scaleDown;
+                h = (other->height + r.size.scaleDown - 1) / r.size.scaleDown;
+                break;
+            }
+        }
+        pool_.ensure(q, r, w, h);
+    }
+    pass.state.apply();
+    PassContext ctx(frame_, &l, pool_, name, declared);
+    slot.passes[index]->execute(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+// ---- live state -----------------------------------------------------------------------------------------
+void Renderer::setTechnique(const std::string& id, int light) {
+    const TechniqueDesc& desc = requireTechnique(id, "setTechnique");
+    for (size_t i : lightIndices(light)) {
+        LightSlot& slot = *lights_[i];
+        slot.state.requested = &desc;
+        slot.state.requestedParams = ParamValues(desc);
+        configureLight(slot);
+    }
+    buildGraph();
+    releaseUndeclaredResources();
+}
+
+void Renderer::releaseUndeclaredResources() {
+    std::vector<std::string> keep;
+    for (const auto& [name, r] : pool_.all())
+        if (name.rfind("frame/", 0) == 0) keep.push_back(name);
+    for (const auto& lp : lights_) {
+        if (!lp->state.light.castsShadows) continue;
+        for (const PassDesc& p : lp->state.desc->passes)
+            for (const ResourceDesc& r : p.creates) keep.push_back(lp->state.group + "/" + r.name);
+    }
+    pool_.releaseAllBut(keep);
+}
+
+void Renderer::setParam(const std::string& key, const std::string& value, int light, const std::string& where) {
+    bool any = false;
+    for (size_t i : lightIndices(light)) {
+        LightSlot& slot = *lights_[i];
+        LightState& s = slot.state;
+        if (!s.requested->findParam(key)) continue;
+        s.requestedParams.set(*s.requested, key, value, where);
+        any = true;
+        if (s.desc->findParam(key)) {
+            if (s.desc == s.requested)
+                s.params = s.requestedParams;
+            else
+                s.params.copySharedFrom(s.requestedParams);
+            graph_.setSource(s.group + "/param:" + key, hashValue(s.params.get(key)));
+        }
+    }
+    if (!any) {
+        // Name the parameters the techniques in use accept.
+        const TechniqueDesc& desc = *lights_.at(lightIndices(light).at(0))->state.requested;
+        ParamValues probe(desc);
+        probe.set(desc, key, value, where);  // throws: unknown parameter, with the accepted keys
+    }
+}
+
+void Renderer::setLight(size_t index, const Light& light) {
+    LightSlot& slot = *lights_.at(index);
+    if (!std::isfinite(light.size) || light.size < 0.0f) throw InputError("setLight: size must be finite and >= 0");
+    bool wasPoint = slot.state.light.isPoint(), casts = slot.state.light.castsShadows;
+    slot.state.light = light;
+    if (light.isPoint() != wasPoint || light.castsShadows != casts) {
+        // What runs changes (a point light runs `hard`): the light's passes are rebuilt.
+        configureLight(slot);
+        buildGraph();
+        releaseUndeclaredResources();  // e.g. reference's sample maps once the light is a point
+    }
+    // Versions are bumped by updateSources() at the next frame: "light" when the pose, shape or
+    // size changed (through the fitted view too), "light.radiance" when colour or intensity did.
+}
+
+void Renderer::setCamera(const Camera& camera) { frame_.camera = camera; }
+void Renderer::setAmbient(float ambient) {
+    if (!std::isfinite(ambient) || ambient < 0.0f) throw InputError("setAmbient: expected a finite value >= 0");
+    frame_.ambient = ambient;
+}
+void Renderer::setTime(double seconds) {
+    frame_.time = seconds;
+    timeSet_ = true;
+}
+
+void Renderer::resize(int width, int height) {
+    if (width < 1 || height < 1 || width > 8192 || height > 8192)
+        throw InputError("resize: expected each side in 1..8192, got " + std::to_string(width) + "x" + std::to_string(height));
+    if (width == frame_.width && height == frame_.height) return;
+    frame_.width = width;
+    frame_.height = height;
+    allocateFrameResources();  // the "camera" version includes the size: every frame-size pass re-runs
+}
+
+std::vector<const LightState*> Renderer::lights() const {
+    std::vector<const LightState*> out;
+    for (const auto& l : lights_) out.push_back(&l->state);
+    return out;
+}
+
+// ---- frames ---------------------------------------------------------------------------------------------
+double Renderer::timePass(const std::function<void()>& run) {
+    if (options_.cpuClock) {
+        glFinish();
+        auto t0 = std::chrono::steady_clock::now();
+        run();
+        glFinish();
+        auto t1 = std::chrono::steady_clock::now();
+        return std::chrono::duration<double, std::milli>(t1 - t0).count();
+    }
+    glBeginQuery(GL_TIME_ELAPSED, timerQuery_);
+    run();
+    glEndQuery(GL_TIME_ELAPSED);
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(timerQuery_, GL_QUERY_RESULT, &ns);
+    return double(ns) * 1e-6;
+}
+
+void Renderer::updateLightSources(LightSlot& slot) {
+    LightState& l = slot.state;
+    l.view = fitLightView(l.light, l.light.position, frame_.bounds);
+    graph_.setSource(l.group + "/light", hashLightGeometry(l.light, l.view));
+    graph_.setSource(l.group + "/light.radiance", hashRadiance(l.light));
+}
+
+void Renderer::updateSources() {
+    frame_.bounds = scene_.bounds(frame_.time);
+    uint64_t objects = 1469598103934665603ull, casters = objects;
+    for (size_t i = 0; i < scene_.objects.size(); ++i) {
+        const Object& o = scene_.objects[i];
+        glm::mat4 m = o.worldFromObjectAt(frame_.time);
+        objects = hashMat(m, hashValue(i, objects));
+        if (o.castsShadows) casters = hashMat(m, hashValue(i, casters));
+    }
+    graph_.setSource("scene.objects", objects);
+    graph_.setSource("scene.casters", casters);
+    graph_.setSource("camera", hashCamera(frame_.camera, frame_.width, frame_.height));
+    graph_.setSource("ambient", hashValue(frame_.ambient));
+    for (auto& l : lights_) updateLightSources(*l);
+}
+
+void Renderer::renderFrame(int frame, const std::set<std::string>& requested) {
+    if (!timeSet_) frame_.time = frame * kSecondsPerFrame;
+    timeSet_ = false;
+    frameIndex_ = frame;
+    updateSources();
+    if (!options_.reuse) graph_.invalidate();
+    lastRequested_ = requested;
+    graph_.execute(requested, frame, [this](const std::function<void()>& run) { return timePass(run); });
+}
+
+void Renderer::measureCost(int firstFrame, int frames) {
+    for (int f = firstFrame; f < firstFrame + frames; ++f)
+        graph_.measureCost(lastRequested_, f, [this](const std::function<void()>& run) { return timePass(run); });
+}
+
+std::vector<std::string> Renderer::checkReuse() {
+    // Every texture level and buffer of the pool, as bytes.
+    auto snapshot = [this] {
+        std::map<std::string, std::vector<float>> out;
+        for (const auto& [name, r] : pool_.all()) {
+            if (r->desc.kind == ResourceKind::Mesh) {
+                std::vector<float> v;
+                for (const glm::vec3& p : r->mesh.positions) v.insert(v.end(), {p.x, p.y, p.z});
+                for (uint32_t i : r->mesh.indices) v.push_back(float(i));
+                out[name] = v;
+            } else if (r->desc.kind == ResourceKind::StorageBuffer) {
+                std::vector<float> v(r->bufferBytes / 4);
+                glGetNamedBufferSubData(r->buffer, 0, GLsizeiptr(v.size() * 4), v.data());
+                out[name] = v;
+            } else {
+                for (int level = 0; level < r->texture.levels(); ++level) {
+                    Image img = readTextureLevel(r->texture, level);
+                    out[name].insert(out[name].end(), img.data.begin(), img.data.end());
+                }
+            }
+        }
+        return out;
+    };
+    auto before = snapshot();
+    graph_.rerunNeeded(lastRequested_);
+    auto after = snapshot();
+    std::vector<std::string> differ;
+    for (const auto& [name, data] : after) {
+        auto it = before.find(name);
+        if (it == before.end()) continue;
+        if (it->second.size() != data.size() ||
+            std::memcmp(it->second.data(), data.data(), data.size() * sizeof(float)) != 0)
+            differ.push_back(name);
+    }
+    return differ;
+}
+
+// ---- read-back ------------------------------------------------------------------------------------------
+const Texture& Renderer::imageTexture() const { return pool_.find("frame/image")->texture; }
+
+Image Renderer::visibility() const { return readTexture(pool_.find("frame/visibility")->texture, 1); }
+
+// xyz of a G-buffer texture, NaN on background pixels (position.w == 0).
+static Image geometryChannels(const Texture& texture, const Texture& position) {
+    Image t = readTexture(texture, 4);
+    Image p = &texture == &position ? t : readTexture(position, 4);
+    Image out(t.width, t.height, 3);
+    for (size_t i = 0; i < t.pixelCount(); ++i)
+        for (int c = 0; c < 3; ++c) out.data[i * 3 + c] = p.data[i * 4 + 3] == 0.0f ? NAN : t.data[i * 4 + c];
+    return out;
+}
+
+Image Renderer::positions() const { return geometryChannels(*frame_.gbuffer.position, *frame_.gbuffer.position); }
+Image Renderer::normals() const { return geometryChannels(*frame_.gbuffer.normal, *frame_.gbuffer.position); }
+
+Image Renderer::ids() const {
+    Image m = readTexture(*frame_.gbuffer.material, 4);
+    Image out(m.width, m.height, 1);
+    for (size_t i = 0; i < m.pixelCount(); ++i) out.data[i] = m.data[i * 4 + 3];
+    return out;
+}
+
+Image Renderer::image() const {
+    Image linear = readTexture(imageTexture(), 4);
+    Image out(linear.width, linear.height, 3);
+    for (size_t i = 0; i < linear.pixelCount(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            float v = std::clamp(linear.data[i * 4 + c], 0.0f, 1.0f);
+            out.data[i * 3 + c] = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+        }
+    }
+    return out;
+}
+
+// ---- internals ------------------------------------------------------------------------------------------
+static bool internalApplies(const InternalDesc& i, const LightState& l) {
+    return i.appliesWhen.empty() || Condition(i.appliesWhen, *l.desc, l.desc->id + "." + i.name).holds(l.params);
+}
+
+std::set<std::string> Renderer::internalRequests(bool withPixelRecords) const {
+    std::set<std::string> out = {"visibility"};
+    for (const auto& lp : lights_) {
+        const LightState& l = lp->state;
+        if (!l.light.castsShadows) continue;
+        out.insert(l.group + "/visibility");
+        for (const InternalDesc& i : l.desc->internals) {
+            if (!internalApplies(i, l)) continue;
+            if (i.kind != InternalDesc::Kind::Record) {
+                out.insert(l.group + "/" + i.resource);
+            } else if (withPixelRecords) {
+                for (const std::string& r : i.reads)
+                    if (graph_.produces(l.group + "/" + r)) out.insert(l.group + "/" + r);
+                    else if (r == "gbuffer") out.insert("gbuffer");
+            }
+        }
+    }
+    return out;
+}
+
+void Renderer::writeInternals(InternalSink& out, std::optional<glm::ivec2> pixel) {
+    nlohmann::json pixelData;
+    for (auto& lp : lights_) {
+        LightState& l = lp->state;
+        out.setPrefix(l.index == 0 ? "" : "light" + std::to_string(l.index) + "/");
+        if (!l.light.castsShadows) continue;
+        nlohmann::json lightRecord = {{"light", l.index}, {"technique", l.desc->id}};
+        for (const InternalDesc& i : l.desc->internals) {
+            if (!internalApplies(i, l)) continue;
+            std::set<std::string> declared(i.reads.begin(), i.reads.end());
+            declared.insert(i.resource);
+            PassContext ctx(frame_, &l, pool_, "internal " + i.name, declared);
+            switch (i.kind) {
+                case InternalDesc::Kind::Image:
+                case InternalDesc::Kind::Pyramid: {
+                    const Resource& r = ctx.resource(i.resource);
+                    for (int level = 0; level < r.levels(); ++level) {
+                        Image img = readTextureLevel(r.texture, level);
+                        if (i.convert) i.convert(img);
+                        if (i.kind == InternalDesc::Kind::Pyramid)
+                            out.image(i.name, img, i.doc + " (level " + std::to_string(level) + ")", "pyramid", level);
+                        else
+                            out.image(i.name, img, i.doc);
+                    }
+                    break;
+                }
+                case InternalDesc::Kind::Mesh:
+                case InternalDesc::Kind::Lines:
+                    out.mesh(i.name, ctx.mesh(i.resource), internalKindName(i.kind), i.doc);
+                    break;
+                case InternalDesc::Kind::Record:
+                    if (pixel) {
+                        nlohmann::json record = i.record(ctx, *pixel);
+                        if (i.name == "pixel")
+                            lightRecord.update(record);
+                        else
+                            lightRecord[i.name] = record;
+                    }
+                    break;
+            }
+        }
+        out.image("visibility", readTexture(pool_.find(l.group + "/visibility")->texture, 1),
+                  "visibility v in [0,1] of this light alone (" + l.desc->id + ")");
+        if (pixel) pixelData["lights"].push_back(lightRecord);
+    }
+    out.setPrefix("");
+    if (pixel) {
+        Image pos = positions();
+        Image vis = visibility();
+        int x = pixel->x, y = pixel->y;
+        pixelData["pixel"] = {x, y};
+        if (std::isfinite(pos.at(x, y, 0)))
+            pixelData["position"] = {pos.at(x, y, 0), pos.at(x, y, 1), pos.at(x, y, 2)};
+        else
+            pixelData["position"] = nullptr;
+        pixelData["visibility"] = vis.at(x, y);
+        out.json("pixel", pixelData, "per-pixel records of the picked pixel (--pixel x,y; y counted from the top)", "record");
+    }
+    out.writeIndex();
+}
+
+}  // namespace shadowlab

@@ -1,0 +1,128 @@
+// The renderer core: the G-buffer, the per-light techniques and the pass graph that runs them
+// (DESIGN.md section 3), with live state: every setter bumps exactly the versions it changes, so
+// the next frame re-runs exactly the passes that read them.
+#pragma once
+#include <glm/glm.hpp>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "gl/util.h"
+#include "graph/frame.h"
+#include "graph/frame_stats.h"
+#include "graph/internals.h"
+#include "graph/pass_graph.h"
+#include "graph/technique.h"
+#include "image/image.h"
+#include "scene/scene.h"
+
+namespace shadowlab {
+
+constexpr double kSecondsPerFrame = 1.0 / 30.0;
+constexpr int kMaxLights = 8;
+
+struct RenderOptions {
+    int width = 512;
+    int height = 512;
+    std::string technique;  // "" = each light's default technique (its "technique" field, else hard)
+    std::vector<std::pair<std::string, std::string>> sets;  // --set key=value, validated
+    std::optional<float> lightSize;  // --light-size
+    bool cpuClock = true;            // time passes on the CPU around glFinish (llvmpipe)
+    bool reuse = true;               // false: every needed pass runs every frame (for timing)
+};
+
+class Renderer {
+public:
+    // Validates the options against the scene and the technique tables (InputError) and builds
+    // the pass graph. Needs a current GL context.
+    Renderer(const Scene& scene, const RenderOptions& options);
+    ~Renderer();
+
+    // Renders frame `frame` at t = frame / 30 s, running only what `requested` needs: "image",
+    // "visibility", "gbuffer", or a light's resource ("L0/shadow_map", see internalRequests()).
+    void renderFrame(int frame, const std::set<std::string>& requested);
+
+    // ---- live state: each setter bumps exactly the versions it changes (checked by tests).
+    // Technique of one light (or of every light: light = -1); its parameters start at their defaults.
+    void setTechnique(const std::string& id, int light = -1);
+    // One parameter, validated against the technique's table (InputError naming `where`).
+    void setParam(const std::string& key, const std::string& value, int light = -1,
+                  const std::string& where = "setParam");
+    void setLight(size_t index, const Light& light);  // pose, size, shape, colour, intensity
+    void setCamera(const Camera& camera);
+    void setAmbient(float ambient);
+    void setTime(double seconds);  // the next renderFrame(frame) sets it from the frame again
+    void resize(int width, int height);
+
+    Image visibility() const;  // 1 channel, combined over the lights (see shaders/common/shade.frag)
+    Image positions() const;   // 3 channels, NaN on background
+    Image normals() const;     // 3 channels, NaN on background
+    Image ids() const;         // 1 channel, -1 on background
+    Image image() const;       // 3 channels, sRGB-encoded shaded image in [0,1]
+
+    // Graph outputs the applicable internals of every light read (request them before writing).
+    std::set<std::string> internalRequests(bool withPixelRecords) const;
+    void writeInternals(InternalSink& out, std::optional<glm::ivec2> pixel);
+    // frameMs: the frames as run; costFrom: the first frame whose pass times count for cost_ms.
+    // (Defined in frame_stats.cpp.)
+    nlohmann::json stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom = 1) const;
+    // shadow_ms / fixed_ms / per pass of the last request's needed passes (frame_stats.h).
+    FrameCost cost(int costFrom = 1) const;
+    // Passes needed by the last request with no run at a frame >= `frame` (their cost is unknown).
+    bool costMeasuredSince(int frame) const;
+    // Re-runs every pass the last request needed and returns the resources whose contents changed
+    // although no declared input did (an undeclared read): empty when reuse is sound.
+    std::vector<std::string> checkReuse();
+    // Times every pass the last request needed, `frames` times, at frame numbers from `firstFrame`,
+    // without changing what the graph reuses or its run counts (for cost_ms on a static scene).
+    void measureCost(int firstFrame, int frames);
+    // Forgets cached outputs: the next frame runs every needed pass.
+    void invalidate() { graph_.invalidate(); }
+
+    const PassGraph& graph() const { return graph_; }
+    const ResourcePool& pool() const { return pool_; }
+    std::vector<const LightState*> lights() const;
+    const Light& lightAt(size_t index) const { return lights_.at(index)->state.light; }
+    const Camera& camera() const { return frame_.camera; }
+    float ambient() const { return frame_.ambient; }
+    const Texture& imageTexture() const;
+    const char* clockName() const { return options_.cpuClock ? "cpu-finish" : "gpu-timer"; }
+    double time() const { return frame_.time; }
+    int width() const { return frame_.width; }
+    int height() const { return frame_.height; }
+
+private:
+    struct LightSlot {
+        LightState state;
+        std::vector<std::unique_ptr<Pass>> passes;  // one per pass of state.desc
+    };
+    void configureLight(LightSlot& slot);  // picks what runs (hard for a point light) and its passes
+    void buildGraph();
+    void releaseUndeclaredResources();  // frees what no pass of the current graph creates
+    void allocateFrameResources();
+    void updateSources();
+    void updateLightSources(LightSlot& slot);
+    void runTechniquePass(LightSlot& slot, size_t pass);
+    double timePass(const std::function<void()>& run);
+    std::vector<size_t> lightIndices(int light) const;
+
+    const Scene& scene_;
+    RenderOptions options_;
+    std::unique_ptr<GpuScene> gpu_;
+    ProgramCache& programs_ = programCache();  // the current GL context's: switching technique compiles nothing twice
+    FrameState frame_;
+    ResourcePool pool_;
+    Texture white_;  // 1x1 visibility 1, for lights that cast no shadow
+    Framebuffer gbufferFbo_, shadeFbo_;
+    std::vector<std::unique_ptr<LightSlot>> lights_;
+    PassGraph graph_;
+    std::set<std::string> lastRequested_;
+    int frameIndex_ = 0;
+    bool timeSet_ = false;
+    GLuint timerQuery_ = 0;
+};
+
+}  // namespace shadowlab

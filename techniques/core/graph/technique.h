@@ -1,0 +1,173 @@
+// A technique describes itself (STYLE.md 2-3): id, citation, parameter table, the passes it declares
+// with the resources they read, create and modify (Falcor's RenderPass::reflect()), and the typed
+// internals it can expose. The CLI (`list`, `--set`), the window, lessons, views and tests read this
+// descriptor; nothing re-types it. Adding a technique touches its folder and one line of
+// techniques/registry.cpp; techniques/template/ is the folder to copy.
+#pragma once
+#include <functional>
+#include <glm/glm.hpp>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "graph/resources.h"
+
+namespace shadowlab {
+
+// ---- parameters (one table: STYLE.md 3) ---------------------------------------------------------
+struct ParamDesc {
+    enum class Type { Float, Int, Bool, Enum };
+    // Integer constraints beyond the range and the step.
+    enum class Constraint { None, Odd, PowerOfTwo };
+    std::string key;         // --set key, e.g. "sm_size"
+    std::string symbol;      // the paper's symbol, e.g. "w_l", "t", "beta"; "" when the paper names none
+    Type type = Type::Float;
+    std::string unit;        // "texels", "world units", "" ...
+    double defaultValue = 0; // Enum: index into `choices`
+    double minValue = 0;
+    double maxValue = 1;
+    double step = 0;         // Int: values are min + k * step (0 or 1: any whole number); Float: UI step only
+    std::string doc;         // one line, with the paper's symbol and the reason for the default
+    std::string appliesWhen; // "" = always; else a condition on other parameters, e.g. "filter == gaussian"
+    Constraint constraint = Constraint::None;
+    std::vector<std::string> choices;  // Enum: the names, in order ("gaussian", "mean")
+};
+const char* paramTypeName(ParamDesc::Type type);
+
+// A condition on parameter values: comparisons `key OP value` (OP one of == != < <= > >=; value a
+// number, true/false, or an enum choice) joined by `&&`. Parsed against a parameter table, so a
+// condition naming an unknown key or choice is a programming error caught by the descriptor tests.
+class ParamValues;
+struct TechniqueDesc;
+class Condition {
+public:
+    Condition() = default;  // always true
+    // Throws InternalError naming `where` when the text does not parse against `desc`.
+    Condition(const std::string& text, const TechniqueDesc& desc, const std::string& where);
+    bool holds(const ParamValues& values) const;
+    bool always() const { return terms_.empty(); }
+    std::vector<std::string> keys() const;  // the parameters it reads
+    const std::string& text() const { return text_; }
+
+private:
+    struct Term {
+        std::string key;
+        std::string op;
+        double value;
+    };
+    std::string text_;
+    std::vector<Term> terms_;
+};
+
+// ---- passes ---------------------------------------------------------------------------------------
+// What a pass sees when it runs: resources by name, parameters, the light, the frame. Every access
+// is recorded and checked against the pass's declaration (an undeclared read is an error).
+class PassContext;
+
+// A pass is an object with its own execute(); it may keep objects that outlive one run (a
+// framebuffer, a CPU-side acceleration structure). Resources themselves belong to the pool.
+class Pass {
+public:
+    virtual ~Pass() = default;
+    virtual void execute(PassContext& ctx) = 0;
+};
+
+// A pass declares what it reads and writes (Falcor's reflect(), Filament's frame graph).
+//  reads:    resources of this light written by earlier passes ("shadow_map"); frame resources
+//            ("gbuffer", "scene.casters" = transforms of shadow casters, "scene.objects", "camera");
+//            "light" (the light's shape, pose and size; its colour is "light.radiance") and
+//            parameters ("param:sm_size").
+//  creates:  resources this pass writes first; the pool allocates them from their declaration.
+//  modifies: resources an earlier pass wrote that this pass reads and rewrites (a ping-pong blur, a
+//            stencil pass followed by add and subtract passes into one V-buffer): a new version.
+// `state` is applied before execute(), so nothing one pass sets leaks into the next.
+struct PassDesc {
+    std::string name;
+    std::string doc;
+    std::vector<std::string> reads;
+    std::vector<ResourceDesc> creates;
+    std::vector<std::string> modifies;
+    PipelineState state = PipelineState::fullscreen();
+    bool soft = false;  // does not run for a point light (`hard` replaces the technique)
+    std::function<std::unique_ptr<Pass>()> create;
+
+    std::vector<std::string> writes() const;  // creates' names, then modifies
+};
+
+// ---- internals ------------------------------------------------------------------------------------
+// What a technique computes inside (DESIGN.md section 4), typed, as outputs of the graph: views
+// and --internals request them, so only what is asked is computed.
+struct InternalDesc {
+    enum class Kind { Image, Pyramid, Mesh, Lines, Record };
+    std::string name;      // file stem in --internals DIR
+    Kind kind = Kind::Image;
+    std::string resource;  // Image/Pyramid: a texture resource; Mesh/Lines: a mesh resource; Record: ""
+    std::vector<std::string> channels;  // names of the channels ("depth"; "min", "max"; "value", "weight")
+    std::string doc;
+    std::string appliesWhen;  // "" = always
+    // Image/Pyramid: turns raw texels into exported values (e.g. the far-plane marker into +inf).
+    std::function<void(Image&)> convert;
+    // Record: the per-pixel record of --pixel, a fixed schema (field -> one-line doc) and the function
+    // computing it from the resources in `reads` (after the frame ran).
+    std::vector<std::pair<std::string, std::string>> schema;
+    std::vector<std::string> reads;
+    std::function<nlohmann::json(PassContext&, glm::ivec2 pixel)> record;
+};
+const char* internalKindName(InternalDesc::Kind kind);
+
+// ---- the descriptor -------------------------------------------------------------------------------
+struct TechniqueDesc {
+    std::string id;
+    std::string name;
+    std::string citation;  // paper and section, e.g. "Williams 1978; background in cournia2005 ch. 2"
+    std::string summary;
+    bool soft = false;     // a soft-shadow technique (converges to `hard` as the light shrinks)
+    std::vector<ParamDesc> params;
+    std::vector<PassDesc> passes;  // in execution order; some pass writes "visibility" (R32F, frame size)
+    std::vector<InternalDesc> internals;
+
+    const ParamDesc* findParam(const std::string& key) const;
+    const InternalDesc* findInternal(const std::string& name) const;
+};
+
+// Parameter values of one technique instance: every key of the table, defaults filled in.
+class ParamValues {
+public:
+    ParamValues() = default;
+    explicit ParamValues(const TechniqueDesc& desc);
+    double get(const std::string& key) const;
+    int getInt(const std::string& key) const { return int(get(key)); }
+    bool getBool(const std::string& key) const { return get(key) != 0.0; }
+    std::string getChoice(const std::string& key) const;  // Enum: the chosen name
+    // Validates against the table: unknown key, NaN/Inf, out of range, non-integer for Int/Bool,
+    // step, odd / power-of-two, unknown enum choice (the choices are listed). `where` names the
+    // source for the message ("--set", "lessons/intro.md:12"). Throws InputError.
+    void set(const TechniqueDesc& desc, const std::string& key, const std::string& text, const std::string& where);
+    const std::map<std::string, double>& values() const { return values_; }
+    // Copies the values of the keys both techniques declare (already validated by `from`'s table).
+    void copySharedFrom(const ParamValues& from);
+    // Parameters whose appliesWhen does not hold for these values, with the reason.
+    std::vector<std::pair<std::string, std::string>> inapplicable(const TechniqueDesc& desc) const;
+    // {key: value} with enum values by name, for stats and sidecars.
+    nlohmann::json toJson(const TechniqueDesc& desc) const;
+
+private:
+    std::map<std::string, double> values_;
+    std::map<std::string, std::string> choices_;  // enum key -> chosen name
+};
+
+// Registry (techniques/registry.cpp): every technique, in the order `list` shows them.
+const std::vector<const TechniqueDesc*>& allTechniques();
+const TechniqueDesc* findTechnique(const std::string& id);                     // nullptr if unknown
+const TechniqueDesc& requireTechnique(const std::string& id, const std::string& where);  // InputError
+
+nlohmann::json describeTechnique(const TechniqueDesc& desc);
+
+// Checks a descriptor's consistency (every read produced earlier or a known frame/light/param
+// resource, names unique, defaults valid, conditions parse, internals name real resources); returns
+// the problems found, empty when it is sound. The descriptor tests run it on every technique.
+std::vector<std::string> validateTechnique(const TechniqueDesc& desc);
+
+}  // namespace shadowlab

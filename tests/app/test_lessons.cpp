@@ -1,0 +1,538 @@
+// Lessons (DESIGN.md section 8, issue 7): the format's refusals with file and line (one test per
+// kind of error), step states, task conditions both ways, the player through a fake host, the
+// exact restoration of every step's state on the real Renderer, the ImGui panel's keys, and every
+// lesson rendered headless through the command line.
+#include <gtest/gtest.h>
+#include <imgui.h>
+#include <stb_image.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "error.h"
+#include "lesson/headless.h"
+#include "lesson/lesson.h"
+#include "lesson/player.h"
+#include "support/cli_run.h"
+#include "support/gl_fixture.h"
+
+namespace fs = std::filesystem;
+using namespace shadowlab;
+
+namespace {
+
+std::string tmp(const std::string& name) { return shadowlab::test::testPath("lessons", name); }
+
+// The message of the InputError that parsing `text` (named lessons/bad.md) throws; "" if none.
+std::string refusal(const std::string& text) {
+    try {
+        parseLesson(text, "lessons/bad.md", "bad");
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+const std::string kHead = "# A lesson\n\n```shadowlab\nscene square-occluder\ntechnique pcf\n```\n\n## Step one\n\n";
+
+// A lesson whose step one holds `commands` (line 11 is the first command).
+std::string withCommands(const std::string& commands) { return kHead + "```shadowlab\n" + commands + "\n```\n"; }
+
+void expectRefused(const std::string& text, const std::string& prefix, const std::string& mention) {
+    std::string message = refusal(text);
+    EXPECT_EQ(message.rfind(prefix, 0), 0u) << "expected the message to start with '" << prefix << "', got: " << message;
+    EXPECT_NE(message.find(mention), std::string::npos) << "expected '" << mention << "' in: " << message;
+}
+
+}  // namespace
+
+// ---- refusals: one per kind, each naming the file and the line --------------------------------------
+TEST(LessonFormat, UnknownCommandNamesFileAndLine) {
+    expectRefused(withCommands("set pcf_kernel 3\ntecnique hard"), "lessons/bad.md:12: ", "unknown command 'tecnique'");
+}
+
+TEST(LessonFormat, UnknownTechniqueNamesFileAndLine) {
+    expectRefused(withCommands("technique pcss-typo"), "lessons/bad.md:11: ", "unknown technique 'pcss-typo'");
+}
+
+TEST(LessonFormat, UnknownParameterKeyListsTheKeys) {
+    std::string m = refusal(withCommands("set pcf_kernl 3"));
+    EXPECT_EQ(m.rfind("lessons/bad.md:11: ", 0), 0u) << m;
+    EXPECT_NE(m.find("unknown parameter 'pcf_kernl' for technique pcf"), std::string::npos) << m;
+    EXPECT_NE(m.find("pcf_kernel"), std::string::npos) << "the accepted keys are listed: " << m;
+}
+
+TEST(LessonFormat, OutOfRangeValueNamesFileAndLine) {
+    expectRefused(withCommands("set pcf_kernel 99"), "lessons/bad.md:11: ", "pcf_kernel");
+    expectRefused(withCommands("set pcf_kernel 4"), "lessons/bad.md:11: ", "odd");  // the descriptor's constraint
+    expectRefused(withCommands("light size -1"), "lessons/bad.md:11: ", "light size");
+    expectRefused(withCommands("pick 1.5 0.5"), "lessons/bad.md:11: ", "pick");
+}
+
+TEST(LessonFormat, BrokenSyntaxNamesFileAndLine) {
+    // A command block that never closes: the line that opened it.
+    expectRefused(kHead + "```shadowlab\ntechnique hard\n", "lessons/bad.md:10: ", "never closed");
+    expectRefused(withCommands("try \"unclosed"), "lessons/bad.md:11: ", "");
+    expectRefused(withCommands("camera position 1 2"), "lessons/bad.md:11: ", "three numbers");
+    // A task condition that does not parse.
+    expectRefused(withCommands("try Do it.\ncheck min(visibility) >> 0.5\nanswer set pcf_kernel 3"), "lessons/bad.md:12: ",
+                  "check");
+    expectRefused(withCommands("try Do it.\ncheck mean(shadows) > 0.5\nanswer set pcf_kernel 3"), "lessons/bad.md:12: ",
+                  "unknown buffer 'shadows'");
+    expectRefused(withCommands("try Do it.\ncheck mean(visibility in object:99999999999) > 0.5\nanswer set pcf_kernel 3"),
+                  "lessons/bad.md:12: ", "object:N");
+    // No title.
+    expectRefused("## Step\n", "lessons/bad.md:1: ", "title");
+}
+
+TEST(LessonFormat, UnknownSceneAndViewNameFileAndLine) {
+    expectRefused(withCommands("scene nowhere"), "lessons/bad.md:11: ", "unknown scene 'nowhere'");
+    expectRefused(withCommands("show wedges-typo"), "lessons/bad.md:11: ", "unknown view 'wedges-typo'");
+    // The shadow-map view needs a technique with a shadow map.
+    expectRefused(withCommands("technique raytraced\nshow shadow-map"), "lessons/bad.md:8: ", "shadow-map");
+}
+
+TEST(LessonFormat, IncompleteTaskIsRefused) {
+    expectRefused(withCommands("try Do it.\ncheck min(visibility) > 0.5"), "lessons/bad.md:11: ", "answer");
+    expectRefused(withCommands("check min(visibility) > 0.5"), "lessons/bad.md:11: ", "try TEXT");
+    expectRefused(withCommands("try Do it.\ncheck min(visibility) > 0.5\nanswer try again"), "lessons/bad.md:13: ",
+                  "state command");
+}
+
+TEST(LessonFormat, AnimateTargetsAreValidated) {
+    expectRefused(withCommands("animate pcf_kernel 1 99"), "lessons/bad.md:11: ", "pcf_kernel");
+    expectRefused(withCommands("animate light.colour 0 1"), "lessons/bad.md:11: ", "light.colour");
+    expectRefused(withCommands("animate second_depth 0 1"), "lessons/bad.md:11: ", "only float and int");
+}
+
+TEST(LessonFormat, CommandLineRefusesABadLessonWithExitCode2AndWritesNothing) {
+    std::string path = tmp("bad.md");
+    std::ofstream(path) << withCommands("set pcf_kernl 3");
+    std::string out = tmp("handout");
+    fs::remove_all(out);
+    test::Result r = test::run("lesson " + path + " --headless --out " + out);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(path + ":11: unknown parameter 'pcf_kernl'"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out)) << "nothing is written for a bad lesson";
+    r = test::run("lesson nonexistent --check");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.output.find("unknown lesson 'nonexistent' (lessons: backprojection, intro, pcss-sssm, shadow-mapping"), std::string::npos) << r.output;
+}
+
+// ---- states ---------------------------------------------------------------------------------------
+TEST(LessonState, StepsCarryStateForwardAndTechniqueResetsParameters) {
+    Lesson l = parseLesson(kHead + "```shadowlab\nset pcf_kernel 3\nlight size 2\nshow error\n```\n\nText one.\n\n"
+                                   "## Two\n\n```shadowlab\ntechnique hard\n```\n\nText two.\n",
+                           "lessons/x.md", "x");
+    ASSERT_EQ(l.steps.size(), 2u);
+    EXPECT_EQ(l.title, "A lesson");
+    EXPECT_EQ(l.steps[0].narration, "Text one.");
+    EXPECT_EQ(l.steps[0].state.technique, "pcf");
+    EXPECT_EQ(l.steps[0].state.params.get("pcf_kernel"), 3.0);
+    EXPECT_EQ(l.steps[0].state.lights.at(0).size, 2.0f);
+    // Step two keeps the light and the view and switches technique (parameters to its defaults).
+    EXPECT_EQ(l.steps[1].state.technique, "hard");
+    EXPECT_EQ(l.steps[1].state.params.get("sm_size"), 1024.0);
+    EXPECT_EQ(l.steps[1].state.lights.at(0).size, 2.0f);
+    EXPECT_EQ(l.steps[1].state.views, std::set<std::string>{"error"});
+    EXPECT_NE(l.steps[0].state, l.steps[1].state);
+}
+
+TEST(LessonState, AnswerStateIsTheStepStatePlusTheAnswer) {
+    Lesson l = parseLesson(withCommands("light size 1\ntry Grow the light.\ncheck min(reference) >= 0.01\nanswer light size 2.5"),
+                           "lessons/x.md", "x");
+    const LessonStep& s = l.steps.at(0);
+    ASSERT_TRUE(s.task && s.answerState);
+    EXPECT_EQ(s.state.lights[0].size, 1.0f);
+    EXPECT_EQ(s.answerState->lights[0].size, 2.5f);
+    LessonState expected = s.state;
+    expected.lights[0].size = 2.5f;
+    EXPECT_EQ(*s.answerState, expected);
+}
+
+TEST(LessonState, BothLessonsLoadWithTasks) {
+    for (const std::string& id : {"intro", "shadow-mapping", "pcss-sssm", "backprojection"}) {
+        Lesson l = loadLesson(id);
+        EXPECT_EQ(l.file, "lessons/" + id + ".md");
+        EXPECT_GE(l.steps.size(), 6u) << id;
+        size_t tasks = 0;
+        for (const LessonStep& s : l.steps) {
+            tasks += s.task.has_value();
+            EXPECT_FALSE(s.narration.empty()) << id << ": " << s.title;
+        }
+        EXPECT_GE(tasks, 1u) << id;
+    }
+}
+
+// ---- task conditions --------------------------------------------------------------------------------
+namespace {
+// A 4x1 strip: ids, reference and visibility per pixel.
+TaskBuffers strip(std::vector<float> ids, std::vector<float> reference, std::vector<float> visibility) {
+    TaskBuffers b;
+    b.ids = Image(int(ids.size()), 1, 1);
+    b.ids.data = ids;
+    b.reference = Image(int(ids.size()), 1, 1);
+    b.reference.data = reference;
+    b.visibility = Image(int(ids.size()), 1, 1);
+    b.visibility.data = visibility;
+    return b;
+}
+}  // namespace
+
+TEST(TaskCondition, StatisticsOverMasksAndBothWays) {
+    SourceLocation at{"lessons/x.md", 3};
+    // Pixel 0 is background (id -1) and never counts.
+    TaskBuffers b = strip({-1, 0, 0, 1}, {0.0f, 1.0f, 0.005f, 0.5f}, {0.0f, 0.2f, 0.0f, 0.5f});
+    EXPECT_FALSE(TaskCondition("min(reference) >= 0.01", at).evaluate(b).passed);  // the umbra pixel
+    EXPECT_TRUE(TaskCondition("min(reference in lit) >= 0.99", at).evaluate(b).passed);
+    // Lit floor pixel (id 0, reference 1) shadowed by the technique: 1 of 1.
+    TaskCondition acne("fraction(visibility < 0.5 in lit & object:0) < 0.01", at);
+    TaskCondition::Outcome o = acne.evaluate(b);
+    EXPECT_FALSE(o.passed);
+    EXPECT_DOUBLE_EQ(o.values.at(0), 1.0);
+    b.visibility.data[1] = 0.9f;
+    o = acne.evaluate(b);
+    EXPECT_TRUE(o.passed) << o.message;
+    EXPECT_DOUBLE_EQ(o.values.at(0), 0.0);
+    // error = |visibility - reference|; 'and' joins terms; every term must hold.
+    EXPECT_NEAR(TaskCondition("max(error in penumbra) <= 1", at).evaluate(b).values.at(0), 0.0, 1e-7);
+    EXPECT_FALSE(TaskCondition("mean(visibility) > 0.1 and max(error) < 0.05", at).evaluate(b).passed);
+    // An empty mask fails and says so.
+    o = TaskCondition("mean(visibility in object:7) > 0", at).evaluate(b);
+    EXPECT_FALSE(o.passed);
+    EXPECT_TRUE(std::isnan(o.values.at(0)));
+    EXPECT_NE(o.message.find("no pixel"), std::string::npos);
+}
+
+// ---- the player through a fake host ------------------------------------------------------------------
+namespace {
+
+// Records what the player applies, like a window would show it; the "user" changes it directly.
+class FakeHost : public LessonHost {
+public:
+    std::string scene, technique, reference, split;
+    std::map<std::string, std::string> params, referenceParams;
+    std::vector<Light> lights;
+    Camera camera;
+    std::set<std::string> views;
+    std::optional<glm::vec2> pick;
+    int sceneLoads = 0, taskReads = 0;
+
+    void setScene(const std::string& name) override {
+        if (name == scene) return;
+        scene = name;
+        ++sceneLoads;
+        Scene s = loadScene(name);
+        lights = s.lights;
+        camera = s.camera;
+    }
+    void setTechnique(const std::string& id) override {
+        technique = id;
+        params.clear();
+        for (const ParamDesc& p : findTechnique(id)->params) params[p.key] = "default";
+    }
+    void setParam(const std::string& key, const std::string& value) override {
+        ASSERT_TRUE(params.count(key)) << key;
+        params[key] = value;
+    }
+    void setLight(size_t index, const Light& light) override { lights.at(index) = light; }
+    void setCamera(const Camera& c) override { camera = c; }
+    void setReference(const std::string& t, const std::vector<std::pair<std::string, std::string>>& p) override {
+        reference = t;
+        referenceParams = std::map<std::string, std::string>(p.begin(), p.end());
+    }
+    void showView(const std::string& view, bool shown) override {
+        if (shown) views.insert(view);
+        else views.erase(view);
+    }
+    void pickPixel(std::optional<glm::vec2> p) override { pick = p; }
+    void setSplit(const std::string& against) override { split = against; }
+    // The reference's minimum is 0 while the light is narrower than 2 (the square-occluder umbra).
+    TaskBuffers readTaskBuffers(bool) override {
+        ++taskReads;
+        float umbra = lights.at(0).size < 2.0f ? 0.0f : 0.3f;
+        return strip({0, 0}, {umbra, 1.0f}, {umbra, 1.0f});
+    }
+
+    // What the host shows, as a LessonState, to compare with the step's.
+    bool shows(const LessonState& s) const {
+        auto texts = s.paramTexts();
+        std::map<std::string, std::string> p(texts.begin(), texts.end());
+        auto rp = s.referenceParamTexts();
+        LessonState shown = s;
+        shown.lights = lights;
+        shown.camera = camera;
+        shown.views = views;
+        shown.pick = pick;
+        shown.split = split;
+        return scene == s.scene && technique == s.technique && params == p && reference == s.referenceTechnique &&
+               referenceParams == std::map<std::string, std::string>(rp.begin(), rp.end()) && shown == s;
+    }
+};
+
+const std::string kTaskLesson =
+    "# Umbra\n\n```shadowlab\nscene square-occluder\ntechnique hard\n```\n\n"
+    "## One\n\n```shadowlab\nlight size 0\nshow visibility\n```\n\nHard.\n\n"
+    "## Two\n\n```shadowlab\ntechnique pcf\nset pcf_kernel 7\nlight size 1\nsplit reference\npick 0.5 0.5\n"
+    "animate light.size 0.5 1.5 2\n```\n\nSoft.\n\n"
+    "## Three\n\n```shadowlab\ntry Make the umbra vanish.\ncheck min(reference) >= 0.01\nanswer light size 2.5\n"
+    "camera position 0 8 8 target 0 0 0\n```\n\nTask.\n";
+
+}  // namespace
+
+TEST(LessonPlayer, WalksForwardAndBackRestoringEveryStepWhateverTheUserChanged) {
+    FakeHost host;
+    LessonPlayer player(parseLesson(kTaskLesson, "lessons/t.md", "t"), host);
+    const Lesson& l = player.lesson();
+    ASSERT_EQ(player.stepCount(), 3u);
+    EXPECT_TRUE(host.shows(l.steps[0].state));
+    auto meddle = [&] {  // what a student does between two steps
+        host.setTechnique("reference");
+        host.setParam("samples", "7");
+        Light light = host.lights[0];
+        light.size = 3.0f;
+        light.position.x += 1.0f;
+        host.setLight(0, light);
+        Camera c = host.camera;
+        c.fovYDegrees = 70.0f;
+        host.setCamera(c);
+        host.showView("error", true);
+        host.pickPixel(glm::vec2(0.1f, 0.1f));
+        host.setSplit("hard");
+    };
+    for (size_t k = 1; k < player.stepCount(); ++k) {
+        meddle();
+        ASSERT_TRUE(player.next());
+        EXPECT_EQ(player.stepIndex(), k);
+        EXPECT_TRUE(host.shows(l.steps[k].state)) << "forward to step " << k + 1 << ":\n" << l.steps[k].state.describe();
+    }
+    EXPECT_FALSE(player.next());
+    for (size_t k = player.stepCount() - 1; k-- > 0;) {
+        meddle();
+        ASSERT_TRUE(player.previous());
+        EXPECT_TRUE(host.shows(l.steps[k].state)) << "back to step " << k + 1;
+    }
+    EXPECT_FALSE(player.previous());
+    meddle();
+    player.restore();
+    EXPECT_TRUE(host.shows(l.steps[0].state));
+    EXPECT_EQ(host.sceneLoads, 1) << "the scene is set again but the host keeps it";
+}
+
+TEST(LessonPlayer, TaskFailsInItsStepAndPassesWithShowMe) {
+    FakeHost host;
+    LessonPlayer player(parseLesson(kTaskLesson, "lessons/t.md", "t"), host);
+    EXPECT_EQ(player.taskCount(), 1u);
+    EXPECT_EQ(player.status(2), LessonPlayer::TaskStatus::NotChecked);
+    player.goTo(2);
+    EXPECT_EQ(player.checkTask().status, LessonPlayer::TaskStatus::NotYet);
+    EXPECT_NE(player.feedback().message.find("not yet"), std::string::npos) << player.feedback().message;
+    // The student solves it by hand.
+    Light light = host.lights[0];
+    light.size = 2.2f;
+    host.setLight(0, light);
+    EXPECT_EQ(player.checkTask().status, LessonPlayer::TaskStatus::Passed);
+    EXPECT_EQ(player.tasksSolved(), 1u);
+    // Restoring brings the unsolved state back; show me applies the answer (light and camera).
+    player.restore();
+    EXPECT_EQ(host.lights[0].size, 1.0f);
+    player.showMe();
+    EXPECT_TRUE(host.shows(*player.step().answerState));
+    EXPECT_EQ(host.camera.position, glm::vec3(0, 8, 8));
+    EXPECT_TRUE(player.checkTask().status == LessonPlayer::TaskStatus::Passed);
+    EXPECT_FLOAT_EQ(player.progress(), 1.0f);
+}
+
+TEST(LessonPlayer, AnimationSweepsTheValueBackAndForth) {
+    FakeHost host;
+    LessonPlayer player(parseLesson(kTaskLesson, "lessons/t.md", "t"), host);
+    player.next();
+    ASSERT_TRUE(player.hasAnimation());
+    EXPECT_TRUE(player.playing());
+    player.update(1.0);  // half of 2 s: half-way from 0.5 to 1.5
+    EXPECT_FLOAT_EQ(host.lights[0].size, 1.0f);
+    player.update(1.0);
+    EXPECT_FLOAT_EQ(host.lights[0].size, 1.5f);
+    player.update(1.5);  // on the way back
+    EXPECT_FLOAT_EQ(host.lights[0].size, 0.75f);
+    player.setPlaying(false);
+    player.update(1.0);
+    EXPECT_FLOAT_EQ(host.lights[0].size, 0.75f);
+    player.restore();
+    EXPECT_TRUE(host.shows(player.step().state));
+    // Integer parameters snap to values their table accepts (pcf_kernel: odd).
+    // The end points must be valid values themselves.
+    EXPECT_NE(refusal(withCommands("animate pcf_kernel 1 10")).find("odd"), std::string::npos);
+    Lesson l = parseLesson(withCommands("animate pcf_kernel 1 11"), "lessons/x.md", "x");
+    EXPECT_EQ(animatedValueText(l.steps[0], 0.5), "7");   // 6 -> steps of 2 from 1 -> 7
+    EXPECT_EQ(animatedValueText(l.steps[0], 0.35), "5");  // 4.5 -> 5
+    EXPECT_EQ(animatedState(l.steps[0], 1.0).params.get("pcf_kernel"), 11.0);
+}
+
+// ---- the ImGui panel: keys drive the player -----------------------------------------------------------
+TEST(LessonPanel, KeysAndButtonsDriveThePlayer) {
+    FakeHost host;
+    LessonPlayer player(parseLesson(kTaskLesson, "lessons/t.md", "t"), host);
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(800, 600);
+    io.DeltaTime = 1.0f / 60.0f;
+    io.IniFilename = nullptr;
+    unsigned char* pixels = nullptr;
+    int w = 0, h = 0;
+    io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+    io.KeyMap[ImGuiKey_RightArrow] = 1;
+    io.KeyMap[ImGuiKey_LeftArrow] = 2;
+    auto frame = [&](int key, ImWchar character) {
+        for (bool& down : io.KeysDown) down = false;
+        if (key) io.KeysDown[key] = true;
+        if (character) io.AddInputCharacter(character);
+        ImGui::NewFrame();
+        drawLessonPanel(player, 1.5f);
+        ImGui::Render();
+    };
+    frame(0, 0);
+    EXPECT_EQ(player.stepIndex(), 0u);
+    frame(1, 0);  // Right
+    EXPECT_EQ(player.stepIndex(), 1u);
+    frame(0, 0);
+    frame(1, 0);
+    EXPECT_EQ(player.stepIndex(), 2u);
+    frame(0, 'c');  // check: not yet
+    EXPECT_EQ(player.feedback().status, LessonPlayer::TaskStatus::NotYet);
+    frame(0, 'm');  // show me
+    EXPECT_EQ(player.feedback().status, LessonPlayer::TaskStatus::ShownAnswer);
+    EXPECT_TRUE(host.shows(*player.step().answerState));
+    frame(2, 0);  // Left
+    EXPECT_EQ(player.stepIndex(), 1u);
+    EXPECT_GT(ImGui::GetDrawData()->TotalVtxCount, 100) << "the panel drew its text and buttons";
+    ImGui::DestroyContext();
+}
+
+// ---- the real renderer: every step's state restored exactly ----------------------------------------------
+class LessonRendererTest : public shadowlab::testing::GLTest {};
+
+TEST_F(LessonRendererTest, EveryLessonRestoresEachStepExactlyOnTheRenderer) {
+    for (const std::string& id : listLessons()) {
+        RendererLessonHost host(64, 64);
+        LessonPlayer player(loadLesson(id), host);
+        auto expectShown = [&](const LessonState& s, const std::string& when) {
+            Renderer& r = host.technique();  // renders one frame, so the state is also drawable
+            SCOPED_TRACE(id + " step " + std::to_string(player.stepIndex() + 1) + " " + when);
+            ASSERT_EQ(r.lights().size(), s.lights.size());
+            for (size_t i = 0; i < s.lights.size(); ++i) {
+                const LightState& l = *r.lights()[i];
+                EXPECT_EQ(l.requested->id, s.technique);
+                EXPECT_EQ(l.requestedParams.values(), s.params.values());
+                const Light& a = r.lightAt(i);
+                const Light& b = s.lights[i];
+                EXPECT_TRUE(a.shape == b.shape && a.position == b.position && a.direction == b.direction && a.up == b.up &&
+                            a.size == b.size && a.intensity == b.intensity);
+            }
+            EXPECT_EQ(r.camera().position, s.camera.position);
+            EXPECT_EQ(r.camera().target, s.camera.target);
+            EXPECT_EQ(r.camera().fovYDegrees, s.camera.fovYDegrees);
+            EXPECT_EQ(host.views(), s.views);
+            EXPECT_EQ(host.split(), s.split);
+        };
+        auto meddle = [&] {
+            host.setTechnique("hard");
+            host.setParam("sm_size", "64");
+            Light light = host.technique().lightAt(0);
+            light.size = 0.3f;
+            light.position += glm::vec3(0.5f, 0.5f, 0.0f);
+            host.setLight(0, light);
+            Camera c = host.technique().camera();
+            c.position += glm::vec3(1.0f, 0.0f, 0.0f);
+            host.setCamera(c);
+        };
+        const size_t n = player.stepCount();
+        for (size_t k = 0; k < n; ++k) {
+            if (k > 0) {
+                meddle();
+                player.next();
+            }
+            expectShown(player.lesson().steps[k].state, "forward");
+        }
+        for (size_t k = n - 1; k-- > 0;) {
+            meddle();
+            player.previous();
+            expectShown(player.lesson().steps[k].state, "back");
+        }
+    }
+}
+
+// ---- every lesson headless through the command line --------------------------------------------------------
+namespace {
+
+void renderHeadless(const std::string& id) {
+    std::string out = tmp("handout");
+    fs::remove_all(out);
+    test::Result r = test::run("lesson " + id + " --headless --out " + out + " --size 192x192");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find(out + "/index.html"), std::string::npos) << "prints the page's path: " << r.output;
+    std::ifstream in(out + "/lesson.json");
+    nlohmann::json j = nlohmann::json::parse(in);
+    Lesson lesson = loadLesson(id);
+    ASSERT_EQ(j["steps"].size(), lesson.steps.size());
+    std::stringstream html;
+    html << std::ifstream(out + "/index.html").rdbuf();
+    EXPECT_NE(html.str().find("<h1>" + lesson.title + "</h1>"), std::string::npos);
+    for (size_t k = 0; k < lesson.steps.size(); ++k) {
+        const nlohmann::json& s = j["steps"][k];
+        // The technique view and one picture per shown view (and animation frame).
+        size_t expected = 1 + lesson.steps[k].state.views.size() + (lesson.steps[k].animate ? 3 : 0);
+        EXPECT_EQ(s["images"].size(), expected) << lesson.steps[k].title;
+        for (const auto& f : s["images"]) {
+            EXPECT_TRUE(fs::exists(out + "/" + f.get<std::string>())) << f;
+            EXPECT_NE(html.str().find(f.get<std::string>()), std::string::npos) << f << " is on the page";
+        }
+        // Every picture is a real render: the technique view is 192x192 and not one flat colour.
+        int w = 0, h = 0, c = 0;
+        unsigned char* px = stbi_load((out + "/" + s["images"][0].get<std::string>()).c_str(), &w, &h, &c, 1);
+        ASSERT_NE(px, nullptr);
+        EXPECT_EQ(w, 192);
+        EXPECT_EQ(h, 192);
+        double sum = 0, sum2 = 0;
+        for (int i = 0; i < w * h; ++i) sum += px[i], sum2 += double(px[i]) * px[i];
+        stbi_image_free(px);
+        double mean = sum / (w * h), sd = std::sqrt(std::max(0.0, sum2 / (w * h) - mean * mean));
+        EXPECT_GT(sd, 10.0) << "a flat picture: " << s["images"][0];
+        // Tasks both ways: the step's own state fails, the show-me state passes.
+        if (lesson.steps[k].task) {
+            ASSERT_TRUE(s.contains("task")) << lesson.steps[k].title;
+            EXPECT_FALSE(s["task"]["own"]["passed"].get<bool>()) << s["task"]["own"]["message"];
+            EXPECT_TRUE(s["task"]["answer"]["passed"].get<bool>()) << s["task"]["answer"]["message"];
+            EXPECT_TRUE(fs::exists(out + "/" + s["task"]["image"].get<std::string>()));
+        }
+        EXPECT_NE(html.str().find(lesson.steps[k].title), std::string::npos);
+    }
+}
+
+}  // namespace
+
+// CI renders every lesson this way: one test per lesson.
+TEST(LessonHeadless, IntroRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("intro"); }
+TEST(LessonHeadless, ShadowMappingRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("shadow-mapping"); }
+TEST(LessonHeadless, PcssSssmRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("pcss-sssm"); }
+TEST(LessonHeadless, BackprojectionRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("backprojection"); }
+TEST(LessonHeadless, EveryLessonHasAHeadlessTest) {
+    EXPECT_EQ(listLessons(), (std::vector<std::string>{"backprojection", "intro", "pcss-sssm", "shadow-mapping"}))
+        << "a new lesson needs its own LessonHeadless test above";
+}
+
+TEST(LessonList, ListJsonNamesLessonsWithTitlesAndStepCounts) {
+    test::Result r = test::run("list --json");
+    ASSERT_EQ(r.code, 0) << r.output;
+    nlohmann::json j = nlohmann::json::parse(r.output);
+    ASSERT_EQ(j["lessons"].size(), listLessons().size());
+    for (const auto& l : j["lessons"]) {
+        Lesson lesson = loadLesson(l["name"].get<std::string>());
+        EXPECT_EQ(l["title"], lesson.title);
+        EXPECT_EQ(l["steps"], lesson.steps.size());
+        EXPECT_FALSE(l.contains("error")) << l;
+    }
+}

@@ -1,0 +1,254 @@
+// The window under a virtual X server (xvfb-run), driven by --script: every technique and scene
+// selected through the panel's actions and by keys, the camera and the light moved with mouse
+// drags, a resize, screenshots compared; the progressive reference against `shadowlab reference`;
+// bad scripts; `shadowlab` with no display.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "graph/technique.h"
+#include "image/image.h"
+#include "scene/scene.h"
+#include "support/cli_run.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using shadowlab::Image;
+using shadowlab::test::run;
+
+std::string tmp(const std::string& name) { return shadowlab::test::testPath("window", name); }
+
+bool haveXvfb() { return std::system("command -v xvfb-run > /dev/null 2>&1") == 0; }
+
+shadowlab::test::Result runWindow(const std::string& arguments) {
+    return run("window " + arguments);  // the binary under xvfb-run: see xvfb() below
+}
+
+std::string xvfb(const std::string& arguments) {
+    return "xvfb-run -a -s '-screen 0 800x600x24' " + std::string(SHADOWLAB_BINARY) + " " + arguments;
+}
+
+shadowlab::test::Result runXvfb(const std::string& arguments) {
+    shadowlab::test::Result r;
+    FILE* pipe = popen((xvfb(arguments) + " 2>&1").c_str(), "r");
+    if (!pipe) return r;
+    char buffer[4096];
+    size_t n;
+    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
+    int status = pclose(pipe);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+// Mean absolute difference over the view, leaving out the bottom rows (the status line).
+double meanDiff(const Image& a, const Image& b) {
+    if (a.width != b.width || a.height != b.height) return 1.0;
+    double sum = 0.0;
+    size_t n = 0;
+    int rows = a.height * 85 / 100;
+    for (int y = 0; y < rows; ++y)
+        for (int x = 0; x < a.width; ++x)
+            for (int c = 0; c < 3; ++c, ++n) sum += std::abs(a.at(x, y, c) - b.at(x, y, c));
+    return sum / double(n);
+}
+
+// One session: every technique and scene through the panel's actions and by keys, camera and light
+// dragged, reset, resized. Each screenshot must differ from the one before (a change of state that
+// shows), except after the camera reset, which must give back the first picture.
+TEST(Window, EveryTechniqueSceneCameraLightAndResize) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    std::vector<std::string> techniques;
+    for (const shadowlab::TechniqueDesc* d : shadowlab::allTechniques())
+        if (d->id != "raytraced") techniques.push_back(d->id);  // refused in the window (tested below)
+    std::vector<std::string> scenes = shadowlab::listScenes();
+    ASSERT_GE(techniques.size(), 3u);
+    ASSERT_GE(scenes.size(), 2u);
+
+    std::ofstream script(tmp("session.txt"));
+    std::vector<std::pair<std::string, std::string>> shots;  // (file, what changed)
+    auto shot = [&](const std::string& what) {
+        std::string file = tmp("shot" + std::to_string(shots.size()) + ".pfm");
+        fs::remove(file);
+        script << "screenshot " << file << "\n";
+        shots.push_back({file, what});
+    };
+    script << "panel off\nkey h\nbackground off\nreference-samples 16\n";
+    shot("start: square-occluder, pcf");
+    for (const std::string& t : techniques) {
+        if (t == "pcf") continue;
+        script << "technique " << t << "\n";
+        if (t == "reference") script << "wait-reference 400\n";
+        shot("panel: technique " + t);
+    }
+    script << "technique pcf\n";
+    shot("panel: technique pcf");
+    for (size_t i = 0; i < techniques.size(); ++i) {  // T cycles through every technique back to pcf
+        script << "key t\n";
+        if (techniques[(i + 2) % techniques.size()] == "reference") script << "wait-reference 400\n";
+        shot("key T -> " + techniques[(i + 2) % techniques.size()]);
+    }
+    for (const std::string& s : scenes) {
+        if (s == "square-occluder") continue;
+        script << "scene " << s << "\n";
+        shot("panel: scene " + s);
+    }
+    script << "scene square-occluder\n";
+    shot("panel: scene square-occluder");
+    script << "key s\n";
+    shot("key S");
+    script << "key s shift\n";
+    shot("key Shift+S (back to square-occluder)");
+    script << "drag left none 100 100 160 110 4\n";
+    shot("orbit drag");
+    script << "drag right none 100 100 130 120 3\n";
+    shot("pan drag");
+    script << "scroll 2\n";
+    shot("wheel zoom");
+    script << "key r\n";
+    shot("key R: camera reset");
+    script << "scroll -4\n";
+    shot("zoom out: the light's outline in view");
+    script << "drag left shift 120 120 170 120 4\n";
+    shot("light drag (Shift)");
+    script << "key ]\n";
+    shot("light larger");
+    script << "resize 300 200\n";
+    shot("resize 300x200");
+    script.close();
+
+    auto r = runXvfb("window --scene square-occluder --technique pcf --size 240x180 --script " + tmp("session.txt"));
+    ASSERT_EQ(r.code, 0) << r.output;  // 1 = a GL error was raised
+    std::vector<Image> images;
+    for (const auto& [file, what] : shots) {
+        ASSERT_TRUE(fs::exists(file)) << what << "\n" << r.output;
+        images.push_back(shadowlab::readPFM(file));
+    }
+    // 0.0005: about one pixel in 2000 changing fully; a changed technique, scene or pose changes far more.
+    for (size_t i = 1; i < images.size(); ++i) {
+        const std::string& what = shots[i].second;
+        double d = meanDiff(images[i], images[i - 1]);
+        if (what == "key T -> pcf" && techniques.size() == 3) {
+            EXPECT_GT(d, 0.0005) << what;
+        } else if (what.rfind("key R", 0) == 0) {
+            // The reset gives back the starting camera: the picture of the scene's first shot.
+            size_t first = 0;
+            for (size_t k = 0; k < shots.size(); ++k)
+                if (shots[k].second == "key Shift+S (back to square-occluder)") first = k;
+            EXPECT_LT(meanDiff(images[i], images[first]), 1e-6) << what;
+            EXPECT_GT(d, 0.0005) << what;
+        } else {
+            EXPECT_GT(d, 0.0005) << what << " (shot " << i << ")";
+        }
+    }
+    EXPECT_EQ(images.front().width, 240);
+    EXPECT_EQ(images.back().width, 300);
+    EXPECT_EQ(images.back().height, 200);
+}
+
+// The progressive reference, run a few samples per frame, is the `reference` technique's result:
+// the same stratified light samples, summed in another order (float rounding only).
+TEST(Window, ProgressiveReferenceEqualsTheReferenceCommand) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    std::ofstream(tmp("ref.txt")) << "reference-samples 32\nwait-reference 400\nsave-reference " << tmp("window.pfm")
+                                  << "\nsave-visibility " << tmp("pcf.pfm") << "\n";
+    auto r = runXvfb("window --scene square-occluder --technique pcf --size 200x150 --script " + tmp("ref.txt"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    auto c = run("reference --scene square-occluder --samples 32 --size 200x150 --out " + tmp("cli.pfm"));
+    ASSERT_EQ(c.code, 0) << c.output;
+    auto p = run("render --scene square-occluder --technique pcf --size 200x150 --visibility " + tmp("cli-pcf.pfm"));
+    ASSERT_EQ(p.code, 0) << p.output;
+    Image w = shadowlab::readPFM(tmp("window.pfm")), ref = shadowlab::readPFM(tmp("cli.pfm"));
+    Image wp = shadowlab::readPFM(tmp("pcf.pfm")), cp = shadowlab::readPFM(tmp("cli-pcf.pfm"));
+    ASSERT_EQ(w.data.size(), ref.data.size());
+    double maxDiff = 0.0, penumbra = 0.0;
+    for (size_t i = 0; i < w.data.size(); ++i) {
+        maxDiff = std::max(maxDiff, double(std::abs(w.data[i] - ref.data[i])));
+        if (ref.data[i] > 0.01f && ref.data[i] < 0.99f) ++penumbra;
+    }
+    EXPECT_LT(maxDiff, 1e-5);  // 32 weights of 1/32 summed in float: rounding is ~1e-7
+    EXPECT_GT(penumbra, 100);  // the reference has a penumbra: not a trivially equal pair
+    ASSERT_EQ(wp.data.size(), cp.data.size());
+    for (size_t i = 0; i < wp.data.size(); ++i) ASSERT_EQ(wp.data[i], cp.data[i]) << "pixel " << i;
+}
+
+// The views panel: VTK views rendered into the window's context; picking another pixel re-renders
+// them (the screenshot changes); no GL error (exit code 0).
+TEST(Window, ViewsPanelFollowsThePickedPixel) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    std::ofstream(tmp("views.txt")) << "panel off\nkey h\nbackground off\nview scene3d\nview shadow-map\n"
+                                    << "pick 100 150\nwait 4\nscreenshot " << tmp("a.pfm") << "\n"
+                                    << "pick 200 130\nwait 4\nscreenshot " << tmp("b.pfm") << "\n"
+                                    << "close-view scene3d\nclose-view shadow-map\nwait 1\nscreenshot " << tmp("c.pfm")
+                                    << "\n";
+    auto r = runXvfb("window --scene square-occluder --technique pcf --size 640x480 --script " + tmp("views.txt"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    Image a = shadowlab::readPFM(tmp("a.pfm")), b = shadowlab::readPFM(tmp("b.pfm")), c = shadowlab::readPFM(tmp("c.pfm"));
+    // The views occupy the bottom of the window: compare the bottom half, where they are.
+    auto bottomDiff = [](const Image& x, const Image& y) {
+        double sum = 0.0;
+        size_t n = 0;
+        for (int row = x.height / 2; row < x.height; ++row)
+            for (int col = 0; col < x.width; ++col)
+                for (int k = 0; k < 3; ++k, ++n) sum += std::abs(x.at(col, row, k) - y.at(col, row, k));
+        return sum / double(n);
+    };
+    EXPECT_GT(bottomDiff(a, b), 0.0005);  // the picked point, its rays and texels moved
+    EXPECT_GT(bottomDiff(b, c), 0.01);    // closing the views uncovers the technique view
+}
+
+TEST(Window, RaytracedIsRefusedWithTheReason) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    std::ofstream(tmp("rt.txt")) << "technique raytraced\nsave-visibility " << tmp("v.pfm") << "\n";
+    auto r = runXvfb("window --scene square-occluder --technique hard --size 120x90 --script " + tmp("rt.txt"));
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("shadowlab render --technique raytraced"), std::string::npos) << r.output;
+}
+
+// Bad input is refused before a window opens, naming the file and line (exit code 2).
+TEST(Window, BadScriptsAndFlags) {
+    std::ofstream(tmp("bad.txt")) << "panel off\n\nkey t\ndrag left none 1 2 3\n";
+    auto r = runWindow("--script " + tmp("bad.txt"));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("bad.txt:4"), std::string::npos) << r.output;
+    std::ofstream(tmp("bad2.txt")) << "technique nosuch\n";
+    r = runWindow("--script " + tmp("bad2.txt"));
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.output.find("bad2.txt:1: unknown technique 'nosuch'"), std::string::npos) << r.output;
+    r = runWindow("--technique nosuch");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.output.find("hard"), std::string::npos) << r.output;  // the choices are listed
+    r = runWindow("--screenshot " + tmp("no/such/folder/x.png"));
+    EXPECT_EQ(r.code, 2);
+    r = runWindow("--scene nosuch");
+    EXPECT_EQ(r.code, 2);
+}
+
+// `shadowlab` with no arguments and no display renders the default scene headless into
+// ./shadowlab-output and says so; exit code 0. `shadowlab window` with no display: exit code 2.
+TEST(Window, NoDisplayFallsBackToAHeadlessRender) {
+    fs::path dir = fs::path(tmp("cwd"));
+    fs::create_directories(dir);
+    std::string command = "cd " + dir.string() + " && env -u DISPLAY -u WAYLAND_DISPLAY " + SHADOWLAB_BINARY + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string out;
+    char buffer[4096];
+    size_t n;
+    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, n);
+    int status = pclose(pipe);
+    EXPECT_EQ(WEXITSTATUS(status), 0) << out;
+    fs::path png = dir / "shadowlab-output" / "square-occluder-pcf.png";
+    EXPECT_TRUE(fs::exists(png)) << out;
+    EXPECT_NE(out.find(png.string()), std::string::npos) << out;  // it says where the output went
+    EXPECT_NE(out.find("no window"), std::string::npos) << out;
+    auto r = run("window");  // the tests run without DISPLAY unless under xvfb
+    if (!std::getenv("DISPLAY")) {
+        EXPECT_EQ(r.code, 2) << r.output;
+        EXPECT_NE(r.output.find("xvfb-run"), std::string::npos) << r.output;
+    }
+}
+
+}  // namespace

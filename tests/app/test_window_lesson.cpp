@@ -1,0 +1,82 @@
+// The lesson player in the window (app/window/lesson_host.cpp) under a virtual X server: each step
+// restores its own state whatever the user changed (the visibility read back from the window is
+// bit-identical), a task fails in the step's own state and passes after "show me" through the
+// window's own buffers, and a bad lesson is refused before the window opens.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include "image/image.h"
+#include "support/cli_run.h"
+
+namespace {
+namespace fs = std::filesystem;
+using shadowlab::Image;
+
+std::string tmp(const std::string& name) { return shadowlab::test::testPath("window-lesson", name); }
+bool haveXvfb() { return std::system("command -v xvfb-run > /dev/null 2>&1") == 0; }
+
+shadowlab::test::Result runXvfb(const std::string& arguments) {
+    shadowlab::test::Result r;
+    std::string command = "xvfb-run -a -s '-screen 0 800x600x24' " + std::string(SHADOWLAB_BINARY) + " " + arguments + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return r;
+    char buffer[4096];
+    size_t n;
+    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
+    int status = pclose(pipe);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+bool identical(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.channels == b.channels && a.data == b.data;
+}
+
+TEST(WindowLesson, StepsRestoreTheirStateAndTasksCheckBothWays) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    std::string v1 = tmp("v1.pfm"), v1b = tmp("v1b.pfm"), v2 = tmp("v2.pfm"), v2r = tmp("v2r.pfm"), v2u = tmp("v2u.pfm");
+    for (const std::string& f : {v1, v1b, v2, v2r, v2u}) fs::remove(f);
+    std::string scriptPath = tmp("lesson.txt");
+    std::ofstream script(scriptPath);
+    script << "panel off\nbackground off\nwait 1\n"
+           << "save-visibility " << v1 << "\n"
+           << "lesson next\nwait 1\n"                    // step 2: acne at zero bias (a task)
+           << "save-visibility " << v2 << "\n"
+           << "lesson check\n"                           // the step's own state: not yet
+           << "param bias_const 4\ntechnique pcf\nwait 1\n"  // the student changes things
+           << "save-visibility " << v2u << "\n"
+           << "lesson restore\nwait 1\n"
+           << "save-visibility " << v2r << "\n"
+           << "lesson next\nwait 1\nlesson previous\nlesson previous\nwait 1\n"
+           << "save-visibility " << v1b << "\n"
+           << "lesson next\nlesson show-me\nwait 1\nlesson check\n";  // the answer: passed
+    script.close();
+    auto r = runXvfb("window --lesson shadow-mapping --size 320x240 --script " + scriptPath);
+    ASSERT_EQ(r.code, 0) << r.output;
+    Image a1 = shadowlab::readPFM(v1), b1 = shadowlab::readPFM(v1b), a2 = shadowlab::readPFM(v2),
+          r2 = shadowlab::readPFM(v2r), u2 = shadowlab::readPFM(v2u);
+    EXPECT_TRUE(identical(a2, r2)) << "restore gives back the step's own picture exactly";
+    EXPECT_FALSE(identical(a2, u2)) << "the student's change showed";
+    EXPECT_TRUE(identical(a1, b1)) << "going back to step 1 restores it exactly";
+    EXPECT_FALSE(identical(a1, a2)) << "step 2 differs from step 1";
+    size_t notYet = r.output.find("lesson: step 2: not yet");
+    size_t passed = r.output.find("lesson: step 2: passed");
+    EXPECT_NE(notYet, std::string::npos) << r.output;
+    EXPECT_NE(passed, std::string::npos) << r.output;
+    EXPECT_LT(notYet, passed);
+}
+
+TEST(WindowLesson, BadLessonIsRefusedWithFileAndLineBeforeTheWindowOpens) {
+    std::string bad = tmp("bad.md");
+    std::ofstream(bad) << "# Bad\n\n```shadowlab\nscene square-occluder\ntechnique pcf\nset pcf_kernl 5\n```\n\n## One\n\nText.\n";
+    // No X server needed: the lesson is read before the window opens.
+    auto r = shadowlab::test::run("window --lesson " + bad);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("bad.md:6"), std::string::npos) << r.output;
+}
+
+}  // namespace

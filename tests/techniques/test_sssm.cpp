@@ -1,0 +1,137 @@
+// sssm (buades2015): end-to-end renders against the square-occluder closed form, the reuse maps and
+// their thresholds (alpha, beta), the internals, and the timing split into the paper's steps. The
+// shared math (blocker averaging, eq. 1, the reuse criteria) is tested in test_pcss.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "graph/renderer.h"
+#include "image/image.h"
+#include "scene/scene.h"
+#include "shared/shared.h"
+#include "support/cli_run.h"
+#include "support/gl_fixture.h"
+
+namespace shadowlab {
+namespace {
+
+struct Frame {
+    Image visibility, positions, ids;
+    nlohmann::json stats;
+};
+
+Frame renderSssm(const std::string& sceneName, std::vector<std::pair<std::string, std::string>> sets, int size = 128) {
+    Scene scene = loadScene(sceneName);
+    RenderOptions options;
+    options.width = options.height = size;
+    options.technique = "sssm";
+    options.sets = std::move(sets);
+    Renderer renderer(scene, options);
+    renderer.renderFrame(0, {"visibility", "gbuffer"});
+    return {renderer.visibility(), renderer.positions(), renderer.ids(), renderer.stats({}, 0)};
+}
+
+double floorRmse(const Frame& f, const Image* other = nullptr) {
+    double sum = 0.0;
+    size_t n = 0;
+    for (int y = 0; y < f.visibility.height; ++y)
+        for (int x = 0; x < f.visibility.width; ++x) {
+            if (f.ids.at(x, y) != 0.0f) continue;
+            glm::vec3 p(f.positions.at(x, y, 0), 0.0f, f.positions.at(x, y, 2));
+            double ref = other ? other->at(x, y) : shared::squareOccluderVisibility(p, 0.5f, 2.0f, 4.0f, 1.0f);
+            double d = f.visibility.at(x, y) - ref;
+            sum += d * d;
+            ++n;
+        }
+    EXPECT_GT(n, 1000u);
+    return std::sqrt(sum / double(n));
+}
+
+class SssmRender : public testing::GLTest {};
+
+// Parallel planes: a separable box (filter = mean) over the eq. 1 penumbra is the closed form's
+// product of two ramps, as PCSS's box is; same tolerance as pcss, 0.03. The paper's Gaussian
+// N(0, 0.5) is narrower than the uniform square light: looser, 0.05.
+TEST_F(SssmRender, SquareOccluderMatchesClosedForm) {
+    double mean = floorRmse(renderSssm("square-occluder", {{"sm_size", "256"}, {"filter", "mean"}}));
+    double gaussian = floorRmse(renderSssm("square-occluder", {{"sm_size", "256"}}));
+    RecordProperty("rmse_mean", std::to_string(mean));
+    RecordProperty("rmse_gaussian", std::to_string(gaussian));
+    EXPECT_LE(mean, 0.03);
+    EXPECT_LE(gaussian, 0.05);
+}
+
+// On a plane every row is reusable, so the thresholds change nothing there: alpha = beta = 0 (no
+// reuse: every row read again from the depth map and the shadow map) and 0.10 agree to 0.01.
+TEST_F(SssmRender, ReuseIsExactOnAPlane) {
+    Frame none = renderSssm("square-occluder", {{"sm_size", "256"}, {"alpha", "0"}, {"beta", "0"}});
+    Frame reused = renderSssm("square-occluder", {{"sm_size", "256"}});
+    EXPECT_LE(floorRmse(reused, &none.visibility), 0.01);
+}
+
+// The reuse maps (buades2015 Fig. 10) through --internals: 0 everywhere at alpha = beta = 0; mostly
+// reused on the plane at 0.10; more reuse on `plant` as alpha grows; kernel sizes within [1, m].
+TEST(SssmInternals, ReuseMapsFollowTheThresholds) {
+    auto internals = [](const std::string& scene, const std::string& ab, const std::string& extra) {
+        std::string dir = test::testPath("sssm", scene + "-" + ab);
+        std::filesystem::remove_all(dir);
+        auto r = test::run("render --scene " + scene + " --technique sssm --size 96x96 --set alpha=" + ab + " --set beta=" +
+                           ab + " " + extra + " --internals " + dir);
+        EXPECT_EQ(r.code, 0) << r.output;
+        return dir;
+    };
+    auto meanReuse = [](const std::string& file) {
+        Image m = readPFM(file);
+        double sum = 0.0;
+        size_t n = 0;
+        for (float v : m.data)
+            if (v >= 0.0f) sum += v, ++n;
+        EXPECT_GT(n, 0u) << file;
+        return n ? sum / double(n) : -1.0;
+    };
+    std::string zero = internals("square-occluder", "0", "--set sm_size=256");
+    EXPECT_EQ(meanReuse(zero + "/reuse_step2.pfm"), 0.0);
+    EXPECT_EQ(meanReuse(zero + "/reuse_step3.pfm"), 0.0);
+    std::string plane = internals("square-occluder", "0.1", "--set sm_size=256");
+    EXPECT_GT(meanReuse(plane + "/reuse_step2.pfm"), 0.9);
+    EXPECT_GT(meanReuse(plane + "/reuse_step3.pfm"), 0.9);
+    double low = meanReuse(internals("plant", "0.01", "") + "/reuse_step2.pfm");
+    std::string highDir = internals("plant", "0.5", "");
+    double high = meanReuse(highDir + "/reuse_step2.pfm");
+    EXPECT_LT(low, high);
+    for (const char* channel : {"kernel_size-c0.pfm", "kernel_size-c1.pfm"}) {
+        Image k = readPFM(highDir + "/" + channel);
+        for (float v : k.data) {
+            ASSERT_GE(v, 1.0f) << channel;
+            ASSERT_LE(v, 41.0f) << channel;
+        }
+    }
+    for (const char* file : {"hard_shadow-c0.pfm", "blocker_rows-c3.pfm", "penumbra-c0.pfm", "horizontal_blur.pfm"})
+        EXPECT_TRUE(std::filesystem::exists(highDir + "/" + file)) << file;
+}
+
+// --stats times the paper's steps separately (Tables 2 and 3: DM, Step1, Step2, Step3).
+TEST_F(SssmRender, StatsShowThePapersSteps) {
+    Frame f = renderSssm("plant", {}, 64);
+    std::vector<std::string> names;
+    for (const auto& p : f.stats["passes"])
+        if (p["cost"] == "shadow") names.push_back(p["name"].get<std::string>().substr(p["name"].get<std::string>().rfind('/') + 1));
+    EXPECT_EQ(names, (std::vector<std::string>{"shadow_map", "step1", "step2", "step3"}));
+}
+
+// Every scene: visibility in [0, 1], no NaN, including the viewport's borders (where the
+// screen-space steps fall back on the shadow map).
+TEST_F(SssmRender, EveryScenesVisibilityIsInUnitRange) {
+    for (const std::string& scene : listScenes()) {
+        Frame f = renderSssm(scene, {{"sm_size", "512"}}, 64);
+        for (float v : f.visibility.data) {
+            ASSERT_TRUE(std::isfinite(v)) << scene;
+            ASSERT_GE(v, 0.0f) << scene;
+            ASSERT_LE(v, 1.0f) << scene;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace shadowlab

@@ -1,0 +1,173 @@
+// The `backprojection` view (viz/view_backprojection.cpp) on ssm-contour and ssm-gbp06: the visible
+// fraction it prints (recomputed from the per-pixel record) equals the technique's visibility at
+// the pixel, its export loads back with one cell per edge or sample, and techniques without the
+// record are refused.
+#include <gtest/gtest.h>
+
+#include <vtkCellData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkNew.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "error.h"
+#include "graph/renderer.h"
+#include "image/image.h"
+#include "scene/scene.h"
+#include "support/cli_run.h"
+#include "support/gl_fixture.h"
+#include "views.h"
+
+namespace shadowlab {
+namespace {
+
+class BackprojectionView : public testing::GLTest {};
+
+// A renderer of `technique` at w x h with an sm_size map, and a 320x240 request for `view`.
+RenderOptions options(const std::string& technique, int w, int h, const std::string& smSize) {
+    RenderOptions o;
+    o.width = w;
+    o.height = h;
+    o.technique = technique;
+    o.sets = {{"sm_size", smSize}};
+    return o;
+}
+ViewRequest viewRequest(const std::string& view, glm::ivec2 pixel, int light = 0) {
+    ViewRequest request;
+    request.view = view;
+    request.pixel = pixel;
+    request.light = light;
+    request.width = 320;
+    request.height = 240;
+    return request;
+}
+
+// The hsm view's crop (level-0 texels) holds every kernel step's texels.
+void expectStepsInsideTheCrop(const ViewResult& r) {
+    const auto& crop = r.data["crop"];
+    for (const auto& s : r.data.value("steps", nlohmann::json::array())) {
+        const double scale = std::ldexp(1.0, s["level"].get<int>());
+        EXPECT_LE(crop[0].get<double>(), s["texels"][0].get<double>() * scale) << s.dump();
+        EXPECT_LE(crop[1].get<double>(), s["texels"][1].get<double>() * scale) << s.dump();
+        EXPECT_GE(crop[2].get<double>(), (s["texels"][2].get<double>() + 1) * scale) << s.dump();
+        EXPECT_GE(crop[3].get<double>(), (s["texels"][3].get<double>() + 1) * scale) << s.dump();
+    }
+}
+
+// Tolerance 1e-4: the record's areas are floats summed on the CPU, the image's visibility on the
+// GPU (the techniques' own record test uses the same bound).
+TEST_F(BackprojectionView, VisibleFractionEqualsTheImageAndExportLoadsBack) {
+    Scene scene = loadScene("square-occluder");
+    int checked = 0, withItems = 0;
+    for (const std::string technique : {"ssm-contour", "ssm-gbp06"}) {
+        Renderer renderer(scene, options(technique, 96, 96, "256"));
+        renderer.renderFrame(0, {"visibility"});
+        const Image vis = renderer.visibility();
+        // A penumbra pixel and a few others along a row through the shadow.
+        std::vector<glm::ivec2> pixels;
+        for (int x = 8; x < 96; x += 11) pixels.push_back({x, 60});
+        for (const glm::ivec2 p : pixels) {
+            if (renderer.ids().at(p.x, p.y) < 0.0f) continue;
+            ViewRequest request = viewRequest("backprojection", p);
+            request.exportPath = test::testPath("viz", "bp-" + technique + "-" + std::to_string(p.x) + ".vtp");
+            ASSERT_EQ(viewRefusal(renderer, request), "");
+            ViewResult r = renderView(renderer, scene, request);
+            const double shown = r.data["visible_fraction"].get<double>();
+            EXPECT_NEAR(shown, vis.at(p.x, p.y), 1e-4) << technique << " pixel " << p.x << "," << p.y;
+            EXPECT_NE(r.caption.find("visible fraction"), std::string::npos);
+            vtkNew<vtkXMLPolyDataReader> reader;
+            reader->SetFileName(request.exportPath.c_str());
+            reader->Update();
+            EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(), r.data["count"].get<vtkIdType>()) << technique;
+            EXPECT_NE(reader->GetOutput()->GetCellData()->GetArray("signed_area"), nullptr);
+            ++checked;
+            if (r.data["count"].get<int>() > 0) ++withItems;
+        }
+    }
+    EXPECT_GE(checked, 10);
+    EXPECT_GE(withItems, 2);  // some pixels are in the penumbra: edges / samples drawn
+}
+
+// The per-pixel record of the back-projection techniques has its own "light_geometry" (shape,
+// area); it used to be called "light" and replaced the light's index the renderer merges under that
+// key, so ViewContext::pixelRecord() threw a json type_error for ssm-* (the shadow-map view with a
+// picked pixel failed), and the backprojection view took records by position, which is wrong when
+// a light before the picked one casts no shadow (its record is skipped). Both now find the record
+// by index: a scene whose light 0 casts no shadows and whose light 1 runs ssm-contour.
+TEST_F(BackprojectionView, RecordsAreFoundByLightIndex) {
+    const std::string path = test::testPath("viz", "two-lights.json");
+    std::ofstream(path) << R"({
+      "camera": {"position": [0, 5.5, 6.5], "target": [0, 0, 0.3], "fov_deg": 40},
+      "lights": [
+        {"type": "square", "position": [3, 4, 0], "direction": [0, -1, 0], "width": 1, "casts_shadows": false},
+        {"type": "square", "position": [0, 4, 0], "direction": [0, -1, 0], "up": [0, 0, -1], "width": 1}],
+      "objects": [
+        {"name": "floor", "id": 0, "type": "quad", "size": [8, 8], "casts_shadows": false},
+        {"name": "plate", "id": 1, "type": "box", "size": [1, 0.001, 1], "transform": {"translate": [0, 2, 0]}}]})";
+    Scene scene = loadScene(path);
+    Renderer renderer(scene, options("ssm-contour", 96, 96, "256"));
+    renderer.renderFrame(0, {"visibility"});
+    const glm::ivec2 pixel(48, 60);
+    ASSERT_GE(renderer.ids().at(pixel.x, pixel.y), 0.0f);
+    for (const char* view : {"backprojection", "shadow-map"}) {
+        SCOPED_TRACE(view);
+        const ViewRequest request = viewRequest(view, pixel, 1);
+        ASSERT_EQ(viewRefusal(renderer, request), "");
+        ViewResult r;
+        ASSERT_NO_THROW(r = renderView(renderer, scene, request));
+        if (std::string(view) == "backprojection")
+            EXPECT_TRUE(r.data.contains("visible_fraction")) << r.data.dump();
+    }
+}
+
+TEST_F(BackprojectionView, TechniquesWithoutTheRecordAreRefused) {
+    auto r = test::run("viz --view backprojection --scene square-occluder --technique pcf --pixel 40,40 --size 64x64 --out " +
+                       test::testPath("viz", "bp-refused.png"));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("records no back-projection"), std::string::npos) << r.output;
+}
+
+// hsm: the steps the view marks are the record's (same levels and texels as --internals' pixel.json
+// gives), each step's texels lie inside its level, and techniques without an HSM are refused.
+TEST_F(BackprojectionView, HsmMarksTheKernelStepsOfTheRecord) {
+    Scene scene = loadScene("square-occluder");
+    Renderer renderer(scene, options("ssm-contour", 96, 96, "256"));
+    const ViewRequest request = viewRequest("hsm", glm::ivec2(48, 60));
+    ASSERT_EQ(viewRefusal(renderer, request), "");
+    ViewResult r = renderView(renderer, scene, request);
+    EXPECT_EQ(r.data["levels"].get<int>(), 8);  // 128x128 .. 1x1 over a 256x256 map
+    ASSERT_TRUE(r.data.contains("steps"));
+    ASSERT_GE(r.data["steps"].size(), 1u);
+    for (const auto& s : r.data["steps"]) {
+        const int level = s["level"].get<int>(), size = 256 >> level;
+        for (int c = 0; c < 4; ++c) {
+            EXPECT_GE(s["texels"][c].get<int>(), 0);
+            EXPECT_LT(s["texels"][c].get<int>(), size) << s.dump();
+        }
+    }
+    EXPECT_NE(r.caption.find("steps"), std::string::npos);
+    expectStepsInsideTheCrop(r);
+    Renderer pcf(scene, [] { RenderOptions p; p.width = 64; p.height = 64; p.technique = "pcf"; return p; }());
+    EXPECT_NE(viewRefusal(pcf, request).find("no min/max pyramid"), std::string::npos);
+}
+
+// On plant the casters cover a quarter of the map's width: every level is cropped to the square
+// around them (the note of issue 10: the levels were unreadable at full size), which still holds
+// the picked penumbra pixel's kernel steps.
+TEST_F(BackprojectionView, HsmCropsToTheCasters) {
+    Scene scene = loadScene("plant");
+    Renderer renderer(scene, options("ssm-contour", 160, 120, "512"));
+    ViewResult r = renderView(renderer, scene, viewRequest("hsm", glm::ivec2(80, 100)));
+    ASSERT_GE(r.data.value("steps", nlohmann::json::array()).size(), 1u) << r.caption;
+    expectStepsInsideTheCrop(r);
+    const auto& crop = r.data["crop"];
+    const double side = crop[2].get<double>() - crop[0].get<double>();
+    EXPECT_LT(side, 0.6 * 512) << crop.dump();
+    EXPECT_NEAR(crop[3].get<double>() - crop[1].get<double>(), side, 1e-9);  // square, as the levels are
+    EXPECT_NE(r.caption.find("shown (the casters)"), std::string::npos) << r.caption;
+}
+
+}  // namespace
+}  // namespace shadowlab
