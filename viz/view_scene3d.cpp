@@ -24,6 +24,7 @@
 
 #include "shared/shared.h"
 #include "view_common.h"
+#include "visibility/raytracer.h"
 
 namespace shadowlab {
 
@@ -275,10 +276,10 @@ void build(ViewContext& ctx, ViewResult& result) {
             const Light& light = ctx.light().light;
             const bool pointLight = light.isPoint();
             const uint32_t samples = pointLight ? 1u : uint32_t(ctx.request.rays);
-            // As the raytraced reference: seed = hash of the pixel index, origin off the surface.
+            // As the raytraced reference: seed = hash of the pixel index, origin off the surface,
+            // samples behind the receiver's tangent plane blocked without a ray.
             const uint32_t seed = shared::pcgHash(uint32_t(size_t(px.y) * size_t(renderer.width()) + size_t(px.x)));
-            const float offset =
-                std::max(1e-5f * diagonal, 4e-6f * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+            const float offset = shadowRayOffset(diagonal, p);
             const bool hasNormal = std::isfinite(n.x) && glm::dot(n, n) > 0.0f;
             if (hasNormal) n = glm::normalize(n);
             std::vector<WorldTriangle> casters = worldTriangles(scene, t, true);
@@ -300,12 +301,13 @@ void build(ViewContext& ctx, ViewResult& result) {
                     weight = uvw.z;
                 }
                 glm::vec3 toLight = sample - p;
-                glm::vec3 side = hasNormal ? (glm::dot(n, toLight) < 0.0f ? -n : n) : glm::normalize(toLight);
+                const bool behind = hasNormal && !shared::inFrontOfTangentPlane(p, n, sample);
+                glm::vec3 side = hasNormal ? n : glm::normalize(toLight);
                 glm::vec3 origin = p + offset * side;
                 glm::vec3 dir = sample - origin;
                 float distance = glm::length(dir);
-                bool blocked = false;
-                if (distance > 0.0f && std::isfinite(distance)) {
+                bool blocked = behind;
+                if (!behind && distance > 0.0f && std::isfinite(distance)) {
                     dir /= distance;
                     float tfar = distance * (1.0f - 1e-5f);
                     for (const WorldTriangle& tri : casters)

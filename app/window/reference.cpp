@@ -6,6 +6,7 @@
 // the GPU (shaders/window/accumulate.frag), so a sample costs one `hard` frame and no read-back.
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <numeric>
 
 #include "shared/shared.h"
@@ -56,6 +57,16 @@ void ProgressiveReference::sync(const Scene& scene, const Camera& camera, const 
         options.width = width;
         options.height = height;
         options.technique = "hard";
+        // Each sample's hard frame tests depth as `reference` does: its shadow-map settings (size,
+        // biases, the tangent-plane test), so the sum converges to what `reference` renders.
+        const TechniqueDesc& reference = requireTechnique("reference", "progressive reference");
+        for (const char* key : {"sm_size", "bias_const", "bias_slope", "plane_test"}) {
+            const ParamDesc* p = reference.findParam(key);
+            if (!p) continue;
+            char value[32];
+            std::snprintf(value, sizeof value, "%g", p->defaultValue);
+            options.sets.emplace_back(key, value);
+        }
         options.cpuClock = true;
         renderer_ = std::make_unique<Renderer>(scene, options);
     }

@@ -6,6 +6,7 @@
 // four samples around p' (Fig. 5b), not by a plain shadow-map test. The C++ mirror for --pixel is
 // techniques/ssm-contour/contour.cpp.
 #include "receiver.glsl"
+#include "../common/light_front.glsl"
 uniform sampler2D shadowMap;       // light-view depth z (R32F), level 0
 uniform sampler2D kernelSize;      // from kernel.frag
 uniform sampler2D classification;  // from kernel.frag
@@ -44,7 +45,13 @@ void main() {
     visibility = 1.0;
     if (isBackground(pixel)) return;
     float cls = texelFetch(classification, pixel, 0).r;
-    if (cls == BP_CLASS_LIT) return;
+    // The visibility convention (common/light_front.glsl): only the light in front of the
+    // receiver's tangent plane counts, as a factor on the back-projected visibility.
+    float front = lightFrontFraction(worldPosition(pixel), worldNormal(pixel));
+    if (cls == BP_CLASS_LIT) {
+        visibility = front;
+        return;
+    }
     if (cls == BP_CLASS_UMBRA) {
         visibility = 0.0;
         return;
@@ -99,5 +106,5 @@ void main() {
             o3 = o2;
         }
     }
-    visibility = bpVisibility(occluded, lightShape);
+    visibility = bpVisibility(occluded, lightShape) * front;
 }

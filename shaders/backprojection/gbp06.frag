@@ -6,6 +6,7 @@
 // overlaps this creates (and those already there) are not corrected: the shadow is overestimated,
 // as the paper says. The C++ mirror for --pixel is techniques/ssm-gbp06/gbp06.cpp.
 #include "receiver.glsl"
+#include "../common/light_front.glsl"
 uniform sampler2D shadowMap;       // light-view depth z (R32F), level 0
 uniform sampler2D kernelSize;      // from kernel.frag
 uniform sampler2D classification;  // from kernel.frag
@@ -25,7 +26,13 @@ void main() {
     visibility = 1.0;
     if (isBackground(pixel)) return;
     float cls = texelFetch(classification, pixel, 0).r;
-    if (cls == BP_CLASS_LIT) return;
+    // The visibility convention (common/light_front.glsl): only the light in front of the
+    // receiver's tangent plane counts, as a factor on the back-projected visibility.
+    float front = lightFrontFraction(worldPosition(pixel), worldNormal(pixel));
+    if (cls == BP_CLASS_LIT) {
+        visibility = front;
+        return;
+    }
     if (cls == BP_CLASS_UMBRA) {
         visibility = 0.0;
         return;
@@ -51,5 +58,5 @@ void main() {
                 hi.y = max(hi.y, backprojectToLight(r.position, vec2(x, y + 1), zTop, shadowMapSize, lightTanHalfFov, lightHalfSize).y);
             occluded += rectOccludedArea(lightShape, vec4(lo, hi));
         }
-    visibility = bpVisibility(occluded, lightShape);
+    visibility = bpVisibility(occluded, lightShape) * front;
 }

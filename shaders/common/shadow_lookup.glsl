@@ -2,6 +2,7 @@
 // shaders/shared/shadow_projection.glsl (the same functions the C++ tests run).
 #ifndef SHADOWLAB_SHADOW_LOOKUP_GLSL
 #define SHADOWLAB_SHADOW_LOOKUP_GLSL
+#include "../shared/backprojection.glsl"
 #include "../shared/shadow_projection.glsl"
 
 uniform sampler2D shadowMap;      // light-view depth z (R32F)
@@ -50,5 +51,24 @@ float shadowTestOffset(ShadowReceiver r, vec2 offset) {
 
 float shadowTest(vec3 worldPos, vec3 normal) {
     return shadowTestOffset(prepareShadowReceiver(worldPos, normal), vec2(0.0));
+}
+
+// The tangent-plane depth test (`plane_test`; the reference's default): the stored depth is
+// compared with the receiver's tangent plane where the tested texel's ray meets it
+// (backprojection.glsl's receiverPlaneDepth), not with the receiver's own depth. The receiver's
+// own surface in that texel is then within rounding of the plane, so a tilted or grazing receiver
+// needs no slope bias, and a caster just above it (a contact) is not hidden by one. The plane's
+// depth is kept within the bias of the receiver's own (a plane nearly along the ray would put it
+// far behind p), and is p's own depth when the ray misses the plane in front of the light.
+float shadowTestPlane(vec3 worldPos, vec3 normal) {
+    BpReceiver r = bpReceiver(lightViewFromWorld, lightClipFromView, worldPos, normal, lightPosition, lightTanHalfFov,
+                              shadowMapSize, biasConstTexels, biasSlopeTexels);
+    if (r.inside == 0.0) return 1.0;  // outside the light's frustum: lit
+    int last = int(shadowMapSize) - 1;
+    ivec2 texel = clamp(ivec2(floor(r.centre)), ivec2(0), ivec2(last));
+    float stored = texelFetch(shadowMap, texel, 0).r;
+    float zPlane = receiverPlaneDepth(r.normal, r.position, vec2(texel) + 0.5, shadowMapSize, lightTanHalfFov);
+    float zTest = zPlane < BP_FAR ? min(zPlane, r.position.z + r.bias) : r.position.z;
+    return stored >= zTest - r.bias ? 1.0 : 0.0;
 }
 #endif

@@ -3,6 +3,7 @@
 // texel (Reeves et al. 1987, percentage-closer filtering).
 #include "../common/gbuffer_access.glsl"
 #include "../common/shadow_lookup.glsl"
+#include "../shared/tangent_plane.glsl"
 #ifdef PCF
 uniform int pcfKernel;  // n, odd (the parameter table enforces it)
 #endif
@@ -16,6 +17,12 @@ void main() {
     }
     vec3 p = worldPosition(pixel);
     vec3 n = worldNormal(pixel);
+    // The visibility convention at the light centre (tangent_plane.glsl): a receiver facing away
+    // from it is in its own shadow, whatever the map says.
+    if (!inFrontOfTangentPlane(p, n, lightPosition)) {
+        visibility = 0.0;
+        return;
+    }
 #ifdef PCF
     ShadowReceiver receiver = prepareShadowReceiver(p, n);
     int radius = pcfKernel / 2;
@@ -25,6 +32,8 @@ void main() {
     // (2r + 1)^2 taps were taken: n^2 for the odd n the table accepts, and never more than taken.
     float taps = float((2 * radius + 1) * (2 * radius + 1));
     visibility = lit / taps;
+#elif defined(PLANE_TEST)
+    visibility = shadowTestPlane(p, n);  // plane_test = 1 (shadow_lookup.glsl)
 #else
     visibility = shadowTest(p, n);
 #endif

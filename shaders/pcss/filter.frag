@@ -3,6 +3,7 @@
 // eq. 1. Regular pattern: every texel of the kernel, box weights with fractional edge taps
 // (kernelWeight, so the kernel widens continuously); Poisson: POISSON_COUNT taps in a disk.
 #include "../common/gbuffer_access.glsl"
+#include "../common/light_front.glsl"
 #include "pcss_common.glsl"
 uniform sampler2D blockers;  // (z_avg, count, search width, kernel) of blocker_search
 layout(location = 0) out float visibility;
@@ -10,7 +11,8 @@ layout(location = 0) out float visibility;
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     // No blocker (and background): "considered as being totally illuminated" (buades2015 sec.
-    // 4.2): the pass's clear value 1 stays (discarded, see blocker_search.frag).
+    // 4.2): discarded here (see blocker_search.frag); the pass gives them the light's fraction in
+    // front of their tangent plane (common/light_front.frag), the background its clear value 1.
     vec4 b = texelFetch(blockers, pixel, 0);
     if (b.x < 0.0) discard;
     ShadowReceiver receiver = prepareShadowReceiver(worldPosition(pixel), worldNormal(pixel));
@@ -19,7 +21,7 @@ void main() {
     if (pattern == PATTERN_POISSON) {
         float lit = 0.0;
         for (int i = 0; i < POISSON_COUNT; ++i) lit += shadowTestTap(receiver, plane, poissonDisk[i] * (0.5 * kernel));
-        visibility = lit / float(POISSON_COUNT);
+        visibility = lit / float(POISSON_COUNT) * lightFrontFraction(worldPosition(pixel), worldNormal(pixel));
         return;
     }
     int r = kernelRadius(kernel);
@@ -32,5 +34,7 @@ void main() {
             weights += w;
         }
     }
-    visibility = clamp(lit / weights, 0.0, 1.0);  // float rounding of the weights can pass 1 by an ulp
+    // Float rounding of the weights can pass 1 by an ulp. The visibility convention: times the
+    // fraction of the light in front of the receiver's tangent plane (light_front.glsl).
+    visibility = clamp(lit / weights, 0.0, 1.0) * lightFrontFraction(worldPosition(pixel), worldNormal(pixel));
 }

@@ -16,5 +16,6 @@ using uint = std::uint32_t;
 #include "shared/penumbra.glsl"
 #include "shared/shadow_projection.glsl"
 #include "shared/square_occluder.glsl"
+#include "shared/tangent_plane.glsl"
 #undef SHARED_FN
 }  // namespace shadowlab::shared

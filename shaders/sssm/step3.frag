@@ -4,6 +4,7 @@
 // the hard shadows, and from the shadow map where the screen does not show this surface. Pixels
 // without a penumbra are discarded: the pass's first draw (keep_hard.frag) gave them the hard shadow.
 #include "sssm_blur.glsl"
+#include "../common/light_front.glsl"
 uniform sampler2D penumbras;    // step 2: (z_avg, w_penumbra)
 uniform sampler2D kernels;      // step 2: kernel width in x and y (pixels)
 uniform sampler2D horizontals;  // step 2: horizontal blur
@@ -38,6 +39,8 @@ void main() {
         int t = takeLowestBit(missed) - ry;
         sum += kernelWeight(float(t), ky, filterKind, sigma) * blurRow(s, pixel + ivec2(0, t), kx);
     }
-    visibility = clamp(sum / weights, 0.0, 1.0);  // float rounding of the weights can pass 1 by an ulp
+    // Float rounding of the weights can pass 1 by an ulp; times the light's fraction in front of
+    // the receiver's tangent plane (the visibility convention, common/light_front.glsl).
+    visibility = clamp(sum / weights, 0.0, 1.0) * lightFrontFraction(worldPosition(pixel), worldNormal(pixel));
     reuse = float(reused) / float(2 * ry + 1);
 }

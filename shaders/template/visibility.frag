@@ -2,6 +2,7 @@
 // ("guennebaud2007 eq. 1") next to the line that implements it; put the paper's equations in
 // shaders/shared/<id>.glsl so tests run them on the CPU too.
 #include "../common/gbuffer_access.glsl"
+#include "../common/light_front.glsl"
 #include "../common/shadow_lookup.glsl"
 uniform int kernelTexels;  // the template's example parameter `kernel` (odd)
 layout(location = 0) out float visibility;
@@ -17,5 +18,8 @@ void main() {
     float lit = 0.0;
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) lit += shadowTestOffset(receiver, vec2(dx, dy));
-    visibility = lit / float((2 * radius + 1) * (2 * radius + 1));
+    // The visibility convention (DESIGN.md section 5): only the light in front of the receiver's
+    // tangent plane counts; here as a factor (common/light_front.glsl), set by setLightFrontUniforms.
+    visibility = lit / float((2 * radius + 1) * (2 * radius + 1)) *
+                 lightFrontFraction(worldPosition(pixel), worldNormal(pixel));
 }

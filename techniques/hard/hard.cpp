@@ -20,6 +20,7 @@ public:
         }
         std::vector<std::string> defines;
         if (pcf_) defines.push_back("PCF");
+        if (!pcf_ && ctx.paramBool("plane_test")) defines.push_back("PLANE_TEST");
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "hard/visibility.frag", defines);
         program.use();
         const Texture& map = ctx.texture(shadowTestMap(ctx));
@@ -50,6 +51,7 @@ PassDesc depthTestPass(bool pcf) {
     p.reads = {"gbuffer", "light", "param:bias_const", "param:bias_slope"};
     for (const std::string& r : shadowTestReads()) p.reads.push_back(r);
     if (pcf) p.reads.push_back("param:pcf_kernel");
+    if (!pcf) p.reads.push_back("param:plane_test");
     p.creates = {visibilityResource()};
     p.soft = pcf;
     p.create = [pcf] { return std::make_unique<DepthTestPass>(pcf); };
@@ -112,6 +114,13 @@ InternalDesc shadowMapPixelRecord(bool pcf) {
     return r;
 }
 
+ParamDesc planeTestParam(bool on) {
+    return {"plane_test", "", ParamDesc::Type::Bool, "", on ? 1.0 : 0.0, 0, 1, 1,
+            "depth test against the receiver's tangent plane at the tested texel's centre, so tilted and grazing "
+            "receivers need no slope bias and contacts keep their shadow (off: the classic slope-biased test)",
+            ""};
+}
+
 const TechniqueDesc& hardTechnique() {
     static const TechniqueDesc desc = [] {
         TechniqueDesc d;
@@ -122,6 +131,7 @@ const TechniqueDesc& hardTechnique() {
                     "every soft technique converges to as the light shrinks";
         d.soft = false;
         d.params = shadowMapParams();
+        d.params.push_back(planeTestParam(false));
         d.passes = {shadowMapPass(), depthTestPass(false)};
         d.internals = shadowMapInternals();
         d.internals.push_back(shadowMapPixelRecord());

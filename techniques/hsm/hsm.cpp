@@ -282,6 +282,10 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel) {
     }
     s.cpu = BackprojectionCpu::read(ctx);
     const BackprojectionCpu& c = s.cpu;
+    const Light& light = ctx.light();
+    s.front = lightFractionInFront(light.isPoint() ? LIGHT_SHAPE_POINT : int(light.shape), light.position,
+                                   light.isPoint() ? glm::vec3(0.0f) : light.right(), light.up,
+                                   light.isPoint() ? 0.0f : light.size, glm::vec3(position), glm::vec3(normal));
     s.receiver = c.receiver(glm::vec3(position), glm::vec3(normal));
     const BpReceiver& r = s.receiver;
     j["light_geometry"] = {{"shape", c.shape == BP_LIGHT_SQUARE ? "square" : "disk"},
@@ -328,7 +332,8 @@ void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& s, 
     float occluded = s.initialArea + itemsArea;
     j["initial_area"] = s.initialArea;
     j["occluded_area"] = occluded;
-    j["visibility_recomputed"] = bpVisibility(occluded, s.cpu.shape);
+    j["front_fraction"] = s.front;
+    j["visibility_recomputed"] = bpVisibility(occluded, s.cpu.shape) * s.front;
     j["visibility"] = ctx.pixelValue("visibility", pixel);
 }
 
@@ -343,7 +348,9 @@ std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema() {
             {"initial_area", "occluded area before the list: the full light for umbra (and, for ssm-contour, when "
                              "the contour inside test occludes the light centre), else 0"},
             {"occluded_area", "initial_area + the list's areas"},
-            {"visibility_recomputed", "clamp(1 - occluded_area / light area, 0, 1), on the CPU"},
+            {"front_fraction", "the fraction of the light in front of the receiver's tangent plane (the visibility "
+                               "convention, shaders/shared/tangent_plane.glsl)"},
+            {"visibility_recomputed", "clamp(1 - occluded_area / light area, 0, 1) x front_fraction, on the CPU"},
             {"visibility", "this light's visibility in the image (GPU)"}};
 }
 
@@ -373,6 +380,7 @@ void BackprojectionVisibilityPass::execute(PassContext& ctx) {
     program.set("lightShape", bpLightShape(ctx.light()));
     program.set("lightHalfSize", bpLightHalfSize(ctx.light()));
     program.set("maxKernelTexels", float(ctx.param("max_kernel")));
+    setLightFrontUniforms(program, ctx.light());
     if (extra_) extra_(ctx, program);
     fbo_.bind(ctx.width(), ctx.height());
     drawFullscreenTriangle();

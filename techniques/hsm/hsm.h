@@ -104,10 +104,12 @@ struct PixelRecordStart {
     KernelResult kernel;
     glm::ivec4 range{0};  // level-0 texels the visibility loop walks (kernel clamped by max_kernel)
     float initialArea = 0.0f;
+    float front = 1.0f;  // fraction of the light in front of the receiver's tangent plane
 };
 PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel);
-// Adds "initial_area", "occluded_area" = initial + sum of the items' areas, "visibility_recomputed"
-// and the image's "visibility".
+// Adds "initial_area", "occluded_area" = initial + sum of the items' areas, "front_fraction",
+// "visibility_recomputed" (the back-projected visibility times front_fraction, as the shader) and
+// the image's "visibility".
 void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& start, float itemsArea);
 // The record's fields shared by both techniques (each adds its list: "samples" or "edges").
 std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema();

@@ -153,9 +153,19 @@ public:
         program.set("shadowMap", 3);
         glBindTextureUnit(4, ctx.texture("pcss_blockers").id());
         program.set("blockers", 4);
-        const float lit[4] = {1.0f, 0.0f, 0.0f, 0.0f};  // what skipped pixels keep
+        setLightFrontUniforms(program, ctx.light());
+        const float lit[4] = {1.0f, 0.0f, 0.0f, 0.0f};  // what the background keeps
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, lit);
         beginStencilTest(2);
+        drawFullscreenTriangle();
+        endStencilTest();
+        // Geometry without a blocker (stencil 1): "totally illuminated", but only by the part of
+        // the light in front of its tangent plane (the visibility convention).
+        const ShaderProgram& front = ctx.programs().get("common/fullscreen.vert", "common/light_front.frag");
+        front.use();
+        ctx.bindGBuffer(front);
+        setLightFrontUniforms(front, ctx.light());
+        beginStencilTest(1);
         drawFullscreenTriangle();
         endStencilTest();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -160,6 +160,8 @@ public:
         targets_.bind(ctx, {"visibility", "reuse_step3"});
         const ShaderProgram& keep = ctx.programs().get("common/fullscreen.vert", "sssm/keep_hard.frag");
         keep.use();
+        ctx.bindGBuffer(keep);  // units 0-2
+        setLightFrontUniforms(keep, ctx.light());
         glBindTextureUnit(4, ctx.texture("hard_shadow").id());
         keep.set("hardShadows", 4);
         drawFullscreenTriangle();
@@ -168,6 +170,7 @@ public:
         program.use();
         setCommonUniforms(ctx, program, ctx.texture(shadowTestMap(ctx)));
         setBlurUniforms(ctx, program);
+        setLightFrontUniforms(program, ctx.light());
         program.set("hardShadows", 4);
         glBindTextureUnit(5, ctx.texture("penumbra").id());
         program.set("penumbras", 5);

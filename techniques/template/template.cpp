@@ -22,6 +22,7 @@ public:
         program.use();
         const Texture& map = ctx.texture(shadowTestMap(ctx));
         setShadowLookupUniforms(program, ctx.lightView(), map.width(), ctx.light());
+        setLightFrontUniforms(program, ctx.light());
         program.set("biasConstTexels", float(ctx.param("bias_const")));
         program.set("biasSlopeTexels", float(ctx.param("bias_slope")));
         program.set("kernelTexels", ctx.paramInt("kernel"));

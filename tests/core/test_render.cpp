@@ -11,6 +11,7 @@
 #include "scene/scene.h"
 #include "shared/shared.h"
 #include "support/gl_fixture.h"
+#include "support/shadow_map_settings.h"
 
 namespace shadowlab {
 namespace {
@@ -203,8 +204,9 @@ TEST_F(RenderTest, VisibilityIsInUnitRangeAndBackgroundIsOne) {
 // --light-size 0: every soft technique equals its hard result (a point light runs no soft pass).
 TEST_F(RenderTest, LightSizeZeroGivesHardShadows) {
     Scene scene = loadScene("square-occluder");
-    Render hard = render(scene, "hard", {}, 0.0f);
     for (const char* t : {"pcf", "reference"}) {
+        // The `hard` that replaces t keeps t's shadow-map settings (the reference's are its own).
+        Render hard = render(scene, "hard", testing::shadowMapSettingsOf(t), 0.0f);
         Render soft = render(scene, t, {}, 0.0f);
         EXPECT_EQ(soft.visibility.data, hard.visibility.data) << t;
         EXPECT_EQ(pass(soft.stats, std::string("L0/") + t + "/" + (std::string(t) == "pcf" ? "filter" : "accumulate"))["status"],

@@ -213,7 +213,12 @@ TEST_F(BackprojectionRender, PixelRecordsAddUpToTheImage) {
                 }
                 double occluded = rec["initial_area"].get<double>() + items;
                 EXPECT_NEAR(occluded, rec["occluded_area"].get<double>(), 1e-4 * std::max(1.0, area));
-                double visibility = std::clamp(1.0 - occluded / area, 0.0, 1.0);
+                // Times the light's fraction in front of the receiver's tangent plane (the visibility
+                // convention, shaders/shared/tangent_plane.glsl), as the shader multiplies it.
+                double front = rec["front_fraction"].get<double>();
+                EXPECT_GE(front, 0.0);
+                EXPECT_LE(front, 1.0);
+                double visibility = std::clamp(1.0 - occluded / area, 0.0, 1.0) * front;
                 EXPECT_NEAR(visibility, rec["visibility"].get<double>(), 1e-4) << rec.dump().substr(0, 2000);
                 EXPECT_FLOAT_EQ(rec["visibility"].get<float>(), v.at(p.x, p.y));
                 if (rec["classification"] == "penumbra") ++penumbraRecords;

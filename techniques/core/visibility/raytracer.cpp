@@ -1,7 +1,8 @@
 // The `raytraced` reference (DESIGN.md section 3, reference 2): for every pixel, M shadow rays to
 // stratified samples of the light, tested with Embree 3 against the exact triangles of the shadow
-// casters. v(p) = sum of the weights of the unoccluded samples, the stratified estimate of the
-// visibility integral (1/A) * integral over the light of V(p, l) dl.
+// casters. v(p) = sum of the weights of the unoccluded samples in front of p's tangent plane, the
+// stratified estimate of the visibility integral (1/A) * integral over the light of V(p, l) dl
+// (DESIGN.md section 5: a sample behind the plane is hidden by the receiver's own surface).
 //
 // Determinism: a pixel's samples depend only on its index (the seed is a hash of it) and its sum is
 // taken in sample order, so the output is bit-identical whatever the number of threads and
@@ -34,14 +35,18 @@ static_assert(int(LightShape::Sphere) == shared::LIGHT_SHAPE_SPHERE);
 
 namespace {
 
-// Ray origins move off the receiver by this fraction of the scene's bounding-box diagonal. It must
-// stay below the thinnest feature that should cast a shadow on its own other side: the
-// square-occluder plate is 0.001 thick in a scene of diagonal ~11.5, and 1e-5 * 11.5 = 1.2e-4.
-// It is still ~100 float ulps at the scene's scale, far above the rounding of G-buffer positions.
-constexpr float kOffsetFractionOfScene = 1e-5f;
-// ... and never less than this many float ulps of the position itself (receivers far from the
-// origin compared with the scene's size).
-constexpr float kOffsetRelativeToPosition = 4e-6f;  // ~32 ulps
+// Ray origins move off the receiver, along its normal towards the light sample, by the rounding
+// a G-buffer position can carry and no more: rays go only to samples in front of the receiver's
+// tangent plane (the visibility convention, shaders/shared/tangent_plane.glsl), so the offset no
+// longer has to step over anything, and a caster thinner than the offset lying on the receiver
+// would be missed. A position is interpolated from vertices of the scene's size, so its rounding
+// is a few float ulps of the scene's scale (2^-23 ~ 1.2e-7 of its bounding-box diagonal: 8 ulps
+// here) ...
+constexpr float kOffsetFractionOfScene = 1e-6f;
+// ... or of the hit's own distance from the origin, whichever is larger (a receiver far from the
+// origin compared with the scene's size): ~32 ulps of its largest coordinate. Both scale with the
+// scene, so a scene scaled by 1e-3 or 1e4 traces the same shadows (HardCase tests at those scales).
+constexpr float kOffsetRelativeToPosition = 4e-6f;
 // Rays stop this fraction short of the light sample, so geometry lying in the light's own plane (an
 // emitter quad, a lamp housing) does not occlude its own light.
 constexpr float kTfarShrink = 1e-5f;
@@ -63,11 +68,16 @@ bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 
 }  // namespace
 
+float shadowRayOffset(float sceneDiagonal, const glm::vec3& p) {
+    float scene = std::isfinite(sceneDiagonal) && sceneDiagonal > 0.0f ? kOffsetFractionOfScene * sceneDiagonal : 0.0f;
+    return std::max(scene, kOffsetRelativeToPosition * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+}
+
 struct RayTracer::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     size_t triangles = 0;
-    float sceneOffset = 1e-5f;  // world units, see kOffsetFractionOfScene
+    float sceneDiagonal = 0.0f;  // world units: shadowRayOffset's scale
     unsigned threads = 0;       // 0 = hardware_concurrency()
 
     // First Embree error message reported through the device callback.
@@ -152,7 +162,7 @@ RayTracer::RayTracer(const Scene& scene, double t) : impl_(std::make_unique<Impl
     Bounds bounds = scene.bounds(t);
     if (!bounds.empty()) {
         float diagonal = glm::length(bounds.hi - bounds.lo);
-        if (std::isfinite(diagonal) && diagonal > 0.0f) im.sceneOffset = kOffsetFractionOfScene * diagonal;
+        if (std::isfinite(diagonal) && diagonal > 0.0f) im.sceneDiagonal = diagonal;
     }
 }
 
@@ -186,7 +196,7 @@ Image RayTracer::visibility(const Image& positions, const Image& normals, const 
     const glm::vec3 centre = light.position;
     const glm::vec3 right = point ? glm::vec3(0.0f) : light.right();
     const glm::vec3 up = light.up;
-    const float sceneOffset = impl_->sceneOffset;
+    const float sceneDiagonal = impl_->sceneDiagonal;
     RTCScene scene = impl_->scene;
 
     // Visibility of one pixel: the weighted fraction of its light samples that no caster hides.
@@ -196,8 +206,7 @@ Image RayTracer::visibility(const Image& positions, const Image& normals, const 
         glm::vec3 n(normals.at(x, y, 0), normals.at(x, y, 1), normals.at(x, y, 2));
         const bool hasNormal = finite3(n) && glm::dot(n, n) > 0.0f;
         if (hasNormal) n = glm::normalize(n);
-        const float offset = std::max(sceneOffset, kOffsetRelativeToPosition *
-                                                       std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+        const float offset = shadowRayOffset(sceneDiagonal, p);
         // The seed is a hash of the pixel index: noise is uncorrelated between pixels yet fixed.
         const uint32_t seed = shared::pcgHash(uint32_t(size_t(y) * width + x));
 
@@ -212,9 +221,15 @@ Image RayTracer::visibility(const Image& positions, const Image& normals, const 
                 weight = uvw.z;
             }
             glm::vec3 toLight = sample - p;
-            // Offset the origin along the normal, flipped to the side the sample is on, so the ray
-            // leaves the receiver's own surface; without a normal, step towards the sample.
-            glm::vec3 side = hasNormal ? (glm::dot(n, toLight) < 0.0f ? -n : n) : glm::normalize(toLight);
+            // The visibility convention: a sample behind the receiver's tangent plane is hidden by
+            // the receiver's own surface; no ray is cast for it.
+            if (hasNormal && !shared::inFrontOfTangentPlane(p, n, sample)) {
+                ++occluded;
+                continue;
+            }
+            // Offset the origin along the normal, to the side the sample is on, so the ray leaves
+            // the receiver's own surface; without a normal, step towards the sample.
+            glm::vec3 side = hasNormal ? n : glm::normalize(toLight);
             glm::vec3 origin = p + offset * side;
             glm::vec3 direction = sample - origin;
             float distance = glm::length(direction);

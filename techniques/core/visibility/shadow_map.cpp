@@ -114,4 +114,12 @@ void setShadowLookupUniforms(const ShaderProgram& program, const LightView& view
     program.set("lightPosition", light.position);
 }
 
+void setLightFrontUniforms(const ShaderProgram& program, const Light& light) {
+    program.set("frontLightShape", light.isPoint() ? int(LightShape::Point) : int(light.shape));
+    program.set("frontLightCentre", light.position);
+    program.set("frontLightRight", light.isPoint() ? glm::vec3(0.0f) : light.right());
+    program.set("frontLightUp", light.up);
+    program.set("frontLightSize", light.isPoint() ? 0.0f : light.size);
+}
+
 }  // namespace shadowlab

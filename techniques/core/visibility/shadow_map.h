@@ -34,6 +34,9 @@ std::vector<std::string> shadowTestReads();
 
 // Binds the uniforms of shaders/common/shadow_lookup.glsl for `view` and a map of `size` texels.
 void setShadowLookupUniforms(const ShaderProgram& program, const LightView& view, int size, const Light& light);
+// The light as shaders/common/light_front.glsl clips it by the receiver's tangent plane (the
+// visibility convention, shaders/shared/tangent_plane.glsl): shape, centre, axes and size.
+void setLightFrontUniforms(const ShaderProgram& program, const Light& light);
 
 // Raw light-view depth -> exported values (the "no caster" marker FLT_MAX becomes +inf).
 void farMarkerToInfinity(Image& image);
