@@ -3,6 +3,7 @@
 // their error against the reference, the bench specification (assets/bench/README.md) and the
 // rows of the CSV.
 #pragma once
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -76,6 +77,9 @@ struct Measurement {
     Metrics all, penumbra;
     size_t techniqueBytes = 0;  // GPU memory of the technique's resources (all lights)
     size_t memoryBytes = 0;     // all GPU memory of the render (frame buffers and scene too)
+    // Of the pixels that computed a capped kernel, the fraction whose kernel was clamped (the
+    // largest over the lights and capped kernels; NaN, an empty CSV cell, when none is capped).
+    double kernelClampedFraction = NAN;
     std::string referenceKey;   // the cache key of the reference it was compared with
     std::string referenceDesc;  // "raytraced rays=256"
     Image visibility;  // the render's visibility buffer

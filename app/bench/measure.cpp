@@ -219,6 +219,11 @@ Measurement measureSetting(const Scene& scene, const std::string& sceneName, int
     for (const auto& [name, r] : renderer.pool().all())
         if (name.rfind("frame/", 0) != 0) m.techniqueBytes += r->bytes();
     m.memoryBytes = stats["memory_bytes"].get<size_t>();
+    for (const auto& l : stats["lights"])
+        for (const auto& k : l["kernel_caps"]) {
+            const double f = k["clamped_fraction"].get<double>();
+            m.kernelClampedFraction = std::isnan(m.kernelClampedFraction) ? f : std::max(m.kernelClampedFraction, f);
+        }
     m.visibility = renderer.visibility();
     m.image = renderer.image();
     if (reference && reference->width > 0) {

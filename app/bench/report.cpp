@@ -57,7 +57,7 @@ const std::vector<std::string>& fixedCsvColumns() {
         "scene", "light_size", "technique", "setting", "technique_ran", "params", "width", "height", "frames", "warmup",
         "clock", "shadow_ms", "fixed_ms", "total_ms", "rmse", "max_abs", "psnr", "ssim", "pixels", "penumbra_rmse",
         "penumbra_max_abs", "penumbra_psnr", "penumbra_ssim", "penumbra_pixels", "technique_memory_bytes",
-        "memory_bytes", "reference", "reference_key"};
+        "memory_bytes", "kernel_clamped_fraction", "reference", "reference_key"};
     return columns;
 }
 
@@ -97,6 +97,10 @@ std::optional<double> numericValue(const Measurement& m, const std::string& c) {
     if (c == "penumbra_pixels") return double(m.penumbra.pixels);
     if (c == "technique_memory_bytes") return double(m.techniqueBytes);
     if (c == "memory_bytes") return double(m.memoryBytes);
+    if (c == "kernel_clamped_fraction") {
+        if (std::isnan(m.kernelClampedFraction)) return std::nullopt;
+        return m.kernelClampedFraction;
+    }
     if (c.rfind("ms.", 0) == 0) {
         auto it = m.passMs.find(c.substr(3));
         if (it != m.passMs.end()) return it->second;

@@ -300,6 +300,17 @@ int runRender(const RenderJob& job, const Options& opts) {
         renderer.measureCost(total, std::max(1, std::min(job.frames, 3)));
     }
 
+    // Clamped kernels said (issue 17): a technique whose capped kernel truncated over 1% of the
+    // pixels that computed it says so, with the cap to raise.
+    for (const Renderer::KernelCapReport& k : renderer.kernelCapReports()) {
+        if (k.fraction() > 0.01)
+            std::fprintf(stderr,
+                         "shadowlab: warning: %s (L%d): %s clamped the kernel of %zu of %zu pixels (%.1f%%; cap %g, widest "
+                         "asked %.4g): their penumbra is truncated; raise --set %s\n",
+                         k.technique.c_str(), k.light, k.name.c_str(), k.count.clamped, k.count.pixels, 100.0 * k.fraction(),
+                         k.count.cap, k.count.largest, k.name.c_str());
+    }
+
     OutputSet outputs;
     const RenderProvenance provenance =
         renderProvenance(scene, renderer, options.width, options.height, frameMs, context->renderer());

@@ -277,6 +277,24 @@ void Window::drawUi() {
             tooltip("Renderer::stats(): median of each needed pass's runs; shadow = the technique's passes, fixed = "
                     "G-buffer and shading");
         }
+        // Clamped kernels said: a capped kernel that truncated penumbrae (over 1% of its pixels in
+        // orange), from the same stats as --stats (kernel_caps).
+        for (const auto& light : stats_.value("lights", nlohmann::json::array())) {
+            for (const auto& k : light.value("kernel_caps", nlohmann::json::array())) {
+                const double f = k.value("clamped_fraction", 0.0);
+                if (!(f > 0.0)) continue;
+                const std::string text = "L" + std::to_string(light.value("index", 0)) + " " +
+                                         k.value("parameter", std::string()) + " clamped: " +
+                                         std::to_string(int(std::lround(100.0 * f))) + "% of " +
+                                         std::to_string(k.value("pixels", size_t(0))) + " px (cap " +
+                                         std::to_string(int(std::lround(k.value("cap", 0.0)))) + ")";
+                if (f > 0.01)
+                    ImGui::TextColored(ImVec4(1.0f, 0.65f, 0.2f, 1.0f), "%s", text.c_str());
+                else
+                    ImGui::Text("%s", text.c_str());
+                tooltip("the penumbra of these pixels is wider than the kernel's cap: raise the parameter");
+            }
+        }
         ImGui::Text("UI %.0f fps (frame %.1f ms, render %.1f ms)", uiFps_, frameMs_, renderMs_);
         if (reference_.active()) {
             float fraction = reference_.total() > 0 ? float(reference_.done()) / float(reference_.total()) : 0.0f;

@@ -337,6 +337,28 @@ void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& s, 
     j["visibility"] = ctx.pixelValue("visibility", pixel);
 }
 
+KernelCapDesc backprojectionKernelCap() {
+    KernelCapDesc k;
+    k.name = "max_kernel";
+    k.doc = "penumbra pixels (the kernel pass's classification); clamped when the converged kernel w_k (eq. 1) "
+            "was wider than max_kernel texels, so the visibility pass walked only max_kernel of it";
+    k.reads = {"classification", "kernel_size", "param:max_kernel"};
+    k.count = [](PassContext& ctx) {
+        KernelCapCount c;
+        c.cap = ctx.param("max_kernel");
+        const Image cls = readTexture(ctx.texture("classification"), 1);
+        const Image w = readTexture(ctx.texture("kernel_size"), 1);
+        for (size_t i = 0; i < cls.pixelCount(); ++i) {
+            if (cls.data[i] != BP_CLASS_PENUMBRA) continue;
+            ++c.pixels;
+            c.clamped += w.data[i] > c.cap;
+            c.largest = std::max(c.largest, double(w.data[i]));
+        }
+        return c;
+    };
+    return k;
+}
+
 std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema() {
     return {{"background", "true when no geometry covers the pixel (then no other field)"},
             {"light_geometry", "shape, area (4 for the square, pi for the disk, in light coordinates), unit and axes"},

@@ -113,6 +113,8 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel);
 void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& start, float itemsArea);
 // The record's fields shared by both techniques (each adds its list: "samples" or "edges").
 std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema();
+// The capped kernel of both back-projection techniques: w_k against max_kernel.
+KernelCapDesc backprojectionKernelCap();
 // The resources a record reads.
 std::vector<std::string> backprojectionRecordReads();
 

@@ -178,6 +178,29 @@ private:
 
 }  // namespace
 
+KernelCapDesc pcssFilterKernelCap() {
+    KernelCapDesc k;
+    k.name = "filter_kernel";
+    k.doc = "pixels where the blocker search found a blocker (the filter ran); clamped when eq. 1's kernel reached "
+            "m = filter_kernel (or the map's 2 sm_size - 1)";
+    k.reads = {"pcss_blockers", "param:filter_kernel", "param:sm_size"};
+    k.count = [](PassContext& ctx) {
+        KernelCapCount c;
+        c.cap = std::min(std::max(double(ctx.paramInt("filter_kernel")), 1.0),
+                         double(shared::maxKernelForMap(float(ctx.paramInt("sm_size")))));
+        const Image b = readTexture(ctx.texture("pcss_blockers"), 4);
+        for (size_t i = 0; i < b.pixelCount(); ++i) {
+            if (!(b.data[i * 4] >= 0.0f)) continue;  // no blocker: not filtered
+            const double kernel = b.data[i * 4 + 3];
+            ++c.pixels;
+            c.clamped += kernel >= c.cap * (1.0 - 1e-6);
+            c.largest = std::max(c.largest, kernel);
+        }
+        return c;
+    };
+    return k;
+}
+
 // The kernel parameters of the shadow-map filtering family, with buades2015's settings.
 ParamDesc blockerKernelParam() {
     ParamDesc n{"blocker_kernel", "n", ParamDesc::Type::Int, "texels", 29, 1, 127, 2,
@@ -310,6 +333,7 @@ const TechniqueDesc& pcssTechnique() {
         filter.soft = true;
         filter.create = [] { return std::make_unique<FilterPass>(); };
         d.passes = {shadowMapPass(), search, filter};
+        d.kernelCaps = {pcssFilterKernelCap()};
 
         d.internals = shadowMapInternals();
         InternalDesc blockers;

@@ -148,6 +148,7 @@ const TechniqueDesc& ssmContourTechnique() {
                 [](PassContext& ctx, const ShaderProgram& p) { p.set("contourT", float(ctx.param("t"))); });
         };
         d.passes = {shadowMapPass(), hsmPass(), kernelPass(), visibility};
+        d.kernelCaps = {backprojectionKernelCap()};
         d.internals = backprojectionInternals();
         d.internals.push_back(contourPixelRecord());
         return d;

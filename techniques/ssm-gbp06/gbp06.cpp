@@ -101,6 +101,7 @@ const TechniqueDesc& ssmGbp06Technique() {
         visibility.soft = true;
         visibility.create = [] { return std::make_unique<BackprojectionVisibilityPass>("backprojection/gbp06.frag"); };
         d.passes = {shadowMapPass(), hsmPass(), kernelPass(), visibility};
+        d.kernelCaps = {backprojectionKernelCap()};
         d.internals = backprojectionInternals();
         d.internals.push_back(gbp06PixelRecord());
         return d;

@@ -201,6 +201,32 @@ InternalDesc imageInternal(const std::string& name, const std::string& resource,
 
 }  // namespace
 
+namespace {
+// SSSM's capped kernel: step 2's screen-space kernel m (pixels), per axis.
+KernelCapDesc sssmFilterKernelCap() {
+    KernelCapDesc k;
+    k.name = "filter_kernel";
+    k.doc = "penumbra pixels (step 2's w_penumbra > 0, the pixels step 3 filters); clamped when the kernel reached "
+            "m = filter_kernel pixels along x or y";
+    k.reads = {"penumbra", "kernel_size", "param:filter_kernel"};
+    k.count = [](PassContext& ctx) {
+        KernelCapCount c;
+        c.cap = std::max(double(ctx.paramInt("filter_kernel")), 1.0);
+        const Image p = readTexture(ctx.texture("penumbra"), 2);
+        const Image k = readTexture(ctx.texture("kernel_size"), 2);
+        for (size_t i = 0; i < p.pixelCount(); ++i) {
+            if (!(p.data[i * 2 + 1] > 0.0f)) continue;
+            const double kernel = std::max(k.data[i * 2], k.data[i * 2 + 1]);
+            ++c.pixels;
+            c.clamped += kernel >= c.cap * (1.0 - 1e-6);
+            c.largest = std::max(c.largest, kernel);
+        }
+        return c;
+    };
+    return k;
+}
+}  // namespace
+
 const TechniqueDesc& sssmTechnique() {
     static const TechniqueDesc desc = [] {
         TechniqueDesc d;
@@ -289,6 +315,7 @@ const TechniqueDesc& sssmTechnique() {
         step3.soft = true;
         step3.create = [] { return std::make_unique<Step3Pass>(); };
         d.passes = {shadowMapPass(), step1, step2, step3};
+        d.kernelCaps = {sssmFilterKernelCap()};
 
         d.internals = shadowMapInternals();
         d.internals.push_back(imageInternal("hard_shadow", "hard_shadow", {"visibility", "camera_depth"},

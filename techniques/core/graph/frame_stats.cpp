@@ -47,7 +47,26 @@ FrameCost Renderer::cost(int costFrom) const {
     return frameCost(graph_, needed, costFrom);
 }
 
-nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom) const {
+std::vector<Renderer::KernelCapReport> Renderer::kernelCapReports() {
+    std::vector<KernelCapReport> out;
+    for (auto& lp : lights_) {
+        LightState& l = lp->state;
+        if (!l.light.castsShadows) continue;
+        for (const KernelCapDesc& k : l.desc->kernelCaps) {
+            // Only once the passes that produce the kernel's resources have run.
+            bool ready = true;
+            for (const std::string& r : k.reads)
+                if (!r.starts_with("param:") && r != "gbuffer" && r != "light" && !pool_.find(l.group + "/" + r)) ready = false;
+            if (!ready) continue;
+            std::set<std::string> declared(k.reads.begin(), k.reads.end());
+            PassContext ctx(frame_, &l, pool_, "kernel cap " + k.name, declared);
+            out.push_back({l.index, l.desc->id, k.name, k.count(ctx)});
+        }
+    }
+    return out;
+}
+
+nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom) {
     nlohmann::json j;
     j["scene"] = scene_.name;
     j["resolution"] = {frame_.width, frame_.height};
@@ -97,7 +116,19 @@ nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFra
         nlohmann::json inapplicable = nlohmann::json::object();
         for (const auto& [key, reason] : l.params.inapplicable(*l.desc)) inapplicable[key] = reason;
         if (!inapplicable.empty()) lj["parameters_not_applied"] = inapplicable;
+        lj["kernel_caps"] = nlohmann::json::array();
         j["lights"].push_back(lj);
+    }
+    for (const KernelCapReport& k : kernelCapReports()) {
+        for (auto& lj : j["lights"]) {
+            if (lj["index"] != k.light) continue;
+            lj["kernel_caps"].push_back({{"parameter", k.name},
+                                         {"cap", k.count.cap},
+                                         {"pixels", k.count.pixels},
+                                         {"clamped_pixels", k.count.clamped},
+                                         {"clamped_fraction", k.fraction()},
+                                         {"largest", k.count.largest}});
+        }
     }
     j["resources"] = pool_.describe();
     j["memory_bytes"] = pool_.totalBytes() + gpu_->bytes();

@@ -68,7 +68,18 @@ public:
     void writeInternals(InternalSink& out, std::optional<glm::ivec2> pixel);
     // frameMs: the frames as run; costFrom: the first frame whose pass times count for cost_ms.
     // (Defined in frame_stats.cpp.)
-    nlohmann::json stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom = 1) const;
+    // Reads back the kernel-cap resources (kernelCapReports), so it is not const.
+    nlohmann::json stats(const std::vector<double>& frameMs, int warmupFrames, int costFrom = 1);
+    // Every light's capped kernels after the last frame: how many pixels computed each and how
+    // many were clamped (TechniqueDesc::kernelCaps). Reads textures back: call it after a frame,
+    // not inside a timed loop.
+    struct KernelCapReport {
+        int light = 0;
+        std::string technique, name;
+        KernelCapCount count;
+        double fraction() const { return count.pixels ? double(count.clamped) / double(count.pixels) : 0.0; }
+    };
+    std::vector<KernelCapReport> kernelCapReports();
     // shadow_ms / fixed_ms / per pass of the last request's needed passes (frame_stats.h).
     FrameCost cost(int costFrom = 1) const;
     // Passes needed by the last request with no run at a frame >= `frame` (their cost is unknown).

@@ -117,6 +117,23 @@ struct InternalDesc {
 };
 const char* internalKindName(InternalDesc::Kind kind);
 
+// A kernel width the technique caps by a parameter (a penumbra wider than the cap is truncated).
+// After a frame, `count` reads the resources in `reads` and counts the pixels that computed this
+// kernel and those of them whose kernel reached the cap; `--stats`, the bench CSV and the window
+// report the fraction, and `render` warns when it is over 1% (docs/adding-a-technique.md).
+struct KernelCapCount {
+    size_t pixels = 0;   // pixels that computed the kernel (a penumbra, or a blocker found)
+    size_t clamped = 0;  // of those, the ones whose kernel was cut at the cap
+    double cap = 0.0;    // the cap in force, in the kernel's unit (texels or pixels)
+    double largest = 0.0;  // the widest kernel asked for (before the cap where the technique keeps it)
+};
+struct KernelCapDesc {
+    std::string name;  // the capping parameter, e.g. "filter_kernel"
+    std::string doc;   // which pixels count, and when one is clamped
+    std::vector<std::string> reads;
+    std::function<KernelCapCount(PassContext&)> count;
+};
+
 // ---- the descriptor -------------------------------------------------------------------------------
 struct TechniqueDesc {
     std::string id;
@@ -127,6 +144,7 @@ struct TechniqueDesc {
     std::vector<ParamDesc> params;
     std::vector<PassDesc> passes;  // in execution order; some pass writes "visibility" (R32F, frame size)
     std::vector<InternalDesc> internals;
+    std::vector<KernelCapDesc> kernelCaps;  // the kernels it caps (empty: no capped kernel)
 
     const ParamDesc* findParam(const std::string& key) const;
     const InternalDesc* findInternal(const std::string& name) const;
