@@ -21,6 +21,8 @@ const std::array<glm::vec2, 32>& poissonDisk32();
 // The kernel caps of buades2015 (n for the blocker search, m for the filter), one table row each.
 ParamDesc blockerKernelParam();
 ParamDesc filterKernelParam(const std::string& unit);
+// The shadow-map parameters of pcss and sssm: shadowMapParams() with sm_size 512 (see pcss.cpp).
+std::vector<ParamDesc> filteringShadowMapParams();
 // PCSS's capped kernel: the filter kernel m of eq. 1 (TechniqueDesc::kernelCaps).
 KernelCapDesc pcssFilterKernelCap();
 
