@@ -6,6 +6,8 @@
 #include <random>
 
 #include "gl/util.h"
+#include "graph/renderer.h"
+#include "scene/scene.h"
 #include "shared/shared.h"
 #include "support/gl_fixture.h"
 
@@ -97,6 +99,74 @@ TEST_F(BackprojectionGpu, SharedMathMatchesCpuOnAGrid) {
             }
         }
     EXPECT_GT(singular, 500);  // the singular cases were exercised
+}
+
+// The production HSM (shaders/backprojection/hsm.comp, run by ssm-contour's hsm pass) against a CPU
+// min/max pyramid built from the read-back shadow map by the paper's rule (each texel the min and
+// max of the 2x2 below, widened on an odd level's last row and column; the no-caster marker FLT_MAX
+// kept): equal texel for texel, at an odd and a power-of-two size. A pyramid built one level off,
+// from the wrong source level or with the wrong footprint, differs (min and max are exact in float).
+TEST_F(BackprojectionGpu, ProductionHsmEqualsCpuMinMaxOfTheShadowMap) {
+    const Scene scene = loadScene("plant");
+    for (const char* smSize : {"37", "64"}) {
+        SCOPED_TRACE(std::string("sm_size ") + smSize);
+        RenderOptions options;
+        options.width = options.height = 32;
+        options.technique = "ssm-contour";
+        options.sets = {{"sm_size", smSize}};
+        Renderer renderer(scene, options);
+        renderer.renderFrame(0, {"visibility"});
+        const Resource* mapResource = renderer.pool().find("L0/shadow_map");
+        const Resource* hsmResource = renderer.pool().find("L0/hsm");
+        ASSERT_TRUE(mapResource && hsmResource);
+        const Image map = readTextureLevel(mapResource->texture, 0);
+        const int size = map.width;
+        ASSERT_EQ(size, std::stoi(smSize));
+        // Level 0 in GL texel coordinates (read-back rows run from the top).
+        std::vector<glm::vec2> below(size_t(size) * size);
+        size_t noCaster = 0;
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) {
+                const float z = map.at(x, size - 1 - y);
+                below[size_t(y) * size + x] = glm::vec2(z);
+                noCaster += z > 1e30f;
+            }
+        EXPECT_GT(noCaster, 0u);  // the floor casts no shadow: the marker is in the map
+        int belowSize = size;
+        const int levels = hsmResource->texture.levels();
+        ASSERT_GE(levels, 3);
+        for (int level = 1; level <= levels; ++level) {
+            const int n = shared::hsmLevelSize(level, size);
+            std::vector<glm::vec2> cpu(size_t(n) * n);
+            for (int py = 0; py < n; ++py)
+                for (int px = 0; px < n; ++px) {
+                    glm::ivec2 lo(2 * px, 2 * py), hi(std::min(2 * px + 1, belowSize - 1), std::min(2 * py + 1, belowSize - 1));
+                    if (px == n - 1) hi.x = belowSize - 1;
+                    if (py == n - 1) hi.y = belowSize - 1;
+                    glm::vec2 range(3.4e38f, -3.4e38f);
+                    for (int y = lo.y; y <= hi.y; ++y)
+                        for (int x = lo.x; x <= hi.x; ++x) {
+                            const glm::vec2 v = below[size_t(y) * belowSize + x];
+                            range = glm::vec2(std::min(range.x, v.x), std::max(range.y, v.y));
+                        }
+                    cpu[size_t(py) * n + px] = range;
+                }
+            const Image gpu = readTextureLevel(hsmResource->texture, level - 1);
+            ASSERT_EQ(gpu.width, n) << "level " << level;
+            size_t bad = 0;
+            for (int py = 0; py < n; ++py)
+                for (int px = 0; px < n; ++px) {
+                    const glm::vec2 c = cpu[size_t(py) * n + px];
+                    const float gmin = gpu.at(px, n - 1 - py, 0), gmax = gpu.at(px, n - 1 - py, 1);
+                    if ((gmin != c.x || gmax != c.y) && bad++ < 5)
+                        ADD_FAILURE() << "level " << level << " texel " << px << "," << py << ": gpu (" << gmin << ", "
+                                      << gmax << ") cpu (" << c.x << ", " << c.y << ")";
+                }
+            EXPECT_EQ(bad, 0u) << "level " << level;
+            below = cpu;
+            belowSize = n;
+        }
+    }
 }
 
 }  // namespace
