@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
         Config c;
         c.label = "pcss " + std::to_string(n) + "/" + std::to_string(m);
         c.technique = "pcss";
-        c.sets = {{"blocker_kernel", std::to_string(n)}, {"filter_kernel", std::to_string(m)}};
+        c.sets = {{"sm_size", "1024"}, {"blocker_kernel", std::to_string(n)}, {"filter_kernel", std::to_string(m)}};
         c.paper = paper;
         configs.push_back(std::move(c));
     };
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
         std::snprintf(ab, sizeof ab, "%.2f", p.ab);
         c.label = std::string("sssm 29/41 a=b=") + ab;
         c.technique = "sssm";
-        c.sets = {{"blocker_kernel", "29"}, {"filter_kernel", "41"}, {"alpha", ab}, {"beta", ab}};
+        c.sets = {{"sm_size", "1024"}, {"blocker_kernel", "29"}, {"filter_kernel", "41"}, {"alpha", ab}, {"beta", ab}};
         c.alphaBeta = p.ab;
         c.paper = p.text;
         configs.push_back(std::move(c));
