@@ -350,9 +350,7 @@ KernelCapDesc backprojectionKernelCap() {
         const Image w = readTexture(ctx.texture("kernel_size"), 1);
         for (size_t i = 0; i < cls.pixelCount(); ++i) {
             if (cls.data[i] != BP_CLASS_PENUMBRA) continue;
-            ++c.pixels;
-            c.clamped += w.data[i] > c.cap;
-            c.largest = std::max(c.largest, double(w.data[i]));
+            c.add(w.data[i], w.data[i] > c.cap);
         }
         return c;
     };

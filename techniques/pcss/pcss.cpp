@@ -207,9 +207,7 @@ KernelCapDesc pcssFilterKernelCap() {
         for (size_t i = 0; i < b.pixelCount(); ++i) {
             if (!(b.data[i * 4] >= 0.0f)) continue;  // no blocker: not filtered
             const double kernel = b.data[i * 4 + 3];
-            ++c.pixels;
-            c.clamped += kernel >= c.cap * (1.0 - 1e-6);
-            c.largest = std::max(c.largest, kernel);
+            c.add(kernel, kernel >= c.cap * (1.0 - 1e-6));
         }
         return c;
     };

@@ -217,9 +217,7 @@ KernelCapDesc sssmFilterKernelCap() {
         for (size_t i = 0; i < p.pixelCount(); ++i) {
             if (!(p.data[i * 2 + 1] > 0.0f)) continue;
             const double kernel = std::max(k.data[i * 2], k.data[i * 2 + 1]);
-            ++c.pixels;
-            c.clamped += kernel >= c.cap * (1.0 - 1e-6);
-            c.largest = std::max(c.largest, kernel);
+            c.add(kernel, kernel >= c.cap * (1.0 - 1e-6));
         }
         return c;
     };

@@ -126,6 +126,12 @@ struct KernelCapCount {
     size_t clamped = 0;  // of those, the ones whose kernel was cut at the cap
     double cap = 0.0;    // the cap in force, in the kernel's unit (texels or pixels)
     double largest = 0.0;  // the widest kernel asked for (before the cap where the technique keeps it)
+    // One pixel that computed the kernel: its width, and whether the cap cut it.
+    void add(double kernel, bool atCap) {
+        ++pixels;
+        clamped += atCap;
+        largest = kernel > largest ? kernel : largest;
+    }
 };
 struct KernelCapDesc {
     std::string name;  // the capping parameter, e.g. "filter_kernel"
