@@ -1,5 +1,6 @@
 // Reads of the G-buffer (techniques/core/graph/renderer.h: position.w = 1 on geometry, 0 on background;
-// normal.w = 1 when the object receives shadows; material.a = object id).
+// normal: the geometric normal, the receiver's tangent plane every visibility test uses
+// (gbuffer.frag), w = 1 when the object receives shadows; material.a = object id).
 #ifndef SHADOWLAB_GBUFFER_ACCESS_GLSL
 #define SHADOWLAB_GBUFFER_ACCESS_GLSL
 uniform sampler2D gPosition;

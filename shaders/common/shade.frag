@@ -7,6 +7,7 @@
 #include "gbuffer_access.glsl"
 #include "lights.glsl"
 uniform float ambient;
+uniform sampler2D gShadingNormal;  // the interpolated normal; gNormal is the geometric one (gbuffer.frag)
 layout(location = 0) out float visibility;
 layout(location = 1) out vec4 color;
 
@@ -19,16 +20,16 @@ void main() {
         return;
     }
     vec3 p = position.xyz;
-    vec4 n = texelFetch(gNormal, pixel, 0);
+    vec3 n = texelFetch(gShadingNormal, pixel, 0).xyz;
+    bool receives = texelFetch(gNormal, pixel, 0).w != 0.0;
     vec3 albedo = texelFetch(gMaterial, pixel, 0).rgb;
-    bool receives = n.w != 0.0;
     vec3 light = vec3(ambient);
     float weighted = 0.0, weights = 0.0, plain = 0.0;
 #if LIGHT_COUNT > 0
     for (int i = 0; i < LIGHT_COUNT; ++i) {  // unrolled: LIGHT_COUNT is a compile-time constant
         float v = receives ? texelFetch(lightVisibility[i], min(pixel, textureSize(lightVisibility[i], 0) - 1), 0).r : 1.0;
         vec3 toLight = normalize(lightPositions[i] - p);
-        float cosine = max(dot(n.xyz, toLight), 0.0);
+        float cosine = max(dot(n, toLight), 0.0);
         float e = directWeight(cosine, lightRadiance[i]);
         weighted += v * e;
         weights += e;

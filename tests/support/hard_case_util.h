@@ -37,6 +37,7 @@ inline std::string writeScene(const std::string& folder, const std::string& name
 
 struct Render {
     Image visibility, positions, ids, image;
+    Image normals;  // the G-buffer's geometric normal (the tangent plane visibility uses), 3 channels
     double seconds = 0.0;  // to render, renderer set-up included
 };
 
@@ -50,7 +51,7 @@ inline Render render(const Scene& scene, const std::string& technique, const Set
     const auto t0 = std::chrono::steady_clock::now();
     Renderer renderer(scene, options);
     renderer.renderFrame(0, {"visibility", "gbuffer", "image"});
-    Render r{renderer.visibility(), renderer.positions(), renderer.ids(), renderer.image()};
+    Render r{renderer.visibility(), renderer.positions(), renderer.ids(), renderer.image(), renderer.normals()};
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
 }

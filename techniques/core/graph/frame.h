@@ -25,7 +25,8 @@ namespace shadowlab {
 struct GBuffer {
     int width = 0, height = 0;
     const Texture* position = nullptr;
-    const Texture* normal = nullptr;
+    const Texture* normal = nullptr;         // geometric (the triangle's plane): what visibility uses
+    const Texture* shadingNormal = nullptr;  // interpolated vertex normal: the shading cosine only
     const Texture* material = nullptr;
     const Texture* depth = nullptr;
 };

@@ -148,13 +148,19 @@ void Renderer::allocateFrameResources() {
     frame_.gbuffer.width = w;
     frame_.gbuffer.height = h;
     frame_.gbuffer.position = tex("gbuffer.position", Format::RGBA32F, "world position xyz; w = 1 on geometry, 0 on background");
-    frame_.gbuffer.normal = tex("gbuffer.normal", Format::RGBA32F, "unit world normal xyz; w = 1 when the object receives shadows");
+    frame_.gbuffer.normal = tex("gbuffer.normal", Format::RGBA32F,
+                                "unit geometric normal xyz (the triangle's plane: visibility's tangent plane); w = 1 when "
+                                "the object receives shadows");
     frame_.gbuffer.material = tex("gbuffer.material", Format::RGBA32F, "albedo rgb; a = object id (-1 on background)");
+    frame_.gbuffer.shadingNormal = tex("gbuffer.shading_normal", Format::RGBA16F,
+                                       "unit interpolated vertex normal xyz, for the shading cosine only");
     frame_.gbuffer.depth = tex("gbuffer.depth", Format::DEPTH32F_STENCIL8,
                                "camera depth and an 8-bit stencil (cleared to 0; for shadow-volume counts)");
     const Texture* visibility = tex("visibility", Format::R32F, "the frame's visibility v, combined over the lights");
     const Texture* image = tex("image", Format::RGBA32F, "the shaded image, linear RGB");
-    gbufferFbo_ = Framebuffer({frame_.gbuffer.position, frame_.gbuffer.normal, frame_.gbuffer.material}, frame_.gbuffer.depth);
+    gbufferFbo_ = Framebuffer({frame_.gbuffer.position, frame_.gbuffer.normal, frame_.gbuffer.material,
+                               frame_.gbuffer.shadingNormal},
+                              frame_.gbuffer.depth);
     shadeFbo_ = Framebuffer({visibility, image}, nullptr);
 }
 
@@ -191,6 +197,7 @@ void Renderer::buildGraph() {
         glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 1, zero);
         glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 2, background);
+        glClearNamedFramebufferfv(gbufferFbo_.id(), GL_COLOR, 3, zero);
         glClearNamedFramebufferfi(gbufferFbo_.id(), GL_DEPTH_STENCIL, 0, one, 0);
         ctx.drawScene(program, false);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -251,6 +258,9 @@ void Renderer::buildGraph() {
         }
         PassContext ctx(frame_, nullptr, pool_, "shade", {"gbuffer", "ambient"});
         ctx.bindGBuffer(program);
+        const GLuint shadingUnit = GLuint(3 + lights_.size());
+        glBindTextureUnit(shadingUnit, ctx.gbuffer().shadingNormal->id());
+        program.set("gShadingNormal", int(shadingUnit));
         program.set("ambient", ctx.ambient());
         shadeFbo_.bind(frame_.width, frame_.height);
         drawFullscreenTriangle();
