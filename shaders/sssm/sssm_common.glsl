@@ -101,6 +101,11 @@ bool showsSurface(Surface s, ivec2 q, float depth, float beta) {
 // Hard shadow of the surface's tangent plane under pixel q, from the shadow map: what the screen
 // does not hold (another object in front, the viewport's border) is "directly sampled" there. The
 // plane point's light depth is exact, so the pixel's own bias serves (no receiver-plane term).
+// A plane point outside the light's frustum reads the map's border texel, as PCF's taps do: the
+// frustum holds every caster unless its angle is capped (80 degrees, scene/light_view.cpp), and
+// when it is (a caster almost at the light) the border texel continues the shadow that "lit"
+// there would cut off. A wide blur's taps reach far along a receding plane: with "lit", m = 127
+// gave the occluder-at-the-light hard case RMSE 0.081 against 0.0076 with the border texel.
 float hardShadowOnPlane(Surface s, ivec2 q) {
     vec3 qh = vec3(vec2(q), 1.0);
     float inv = dot(s.invDepthFromPixel, qh);
@@ -108,7 +113,6 @@ float hardShadowOnPlane(Surface s, ivec2 q) {
     vec4 clip = s.lightClipFromPixel * qh;
     if (clip.w <= 0.0) return 1.0;  // behind the light: lit, as shadowMapCoord
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    if (uv.x < 0.0 || uv.y < 0.0 || uv.x > 1.0 || uv.y > 1.0) return 1.0;
     float z = dot(s.lightDepthFromPixel, qh) / inv;
     int last = int(shadowMapSize) - 1;
     ivec2 texel = clamp(ivec2(floor(uv * shadowMapSize)), ivec2(0), ivec2(last));

@@ -241,13 +241,13 @@ const TechniqueDesc& sssmTechnique() {
         d.params.push_back(blockerKernelParam());
         ParamDesc m = filterKernelParam("pixels");
         // The blur is in screen pixels, so the penumbra it must span grows with the image: at 512 x 512
-        // square-occluder's is 95 px, plant's 68, sphere-light's 81 (kernel_caps' `largest`), so this
-        // m clamps them (100%, 44%, 25% of their penumbra pixels; render warns). 127 would span all
-        // but overlapping-occluders and cube-popping, but breaks the occluder-at-the-light hard case
-        // (closed-form RMSE 0.087: the wide blur reaches lit pixels past the receiver); kept at the
-        // paper's 41 until that is understood (issue 17's note).
+        // square-occluder's is 95 px, plant's 68, sphere-light's 81 (kernel_caps' `largest`), which the
+        // paper's 41 clamped (100%, 44%, 25% of their penumbra pixels). The default is the largest m
+        // the blur's 128-bit set of shadow-map taps holds (sssm_blur.glsl), 127: the loops run to each
+        // pixel's own kernel, so m costs only where a penumbra is that wide.
+        m.defaultValue = 127;
         m.doc = "largest screen-space blur width m; each pixel blurs over its eq. 1 penumbra measured on its tangent "
-                "plane, up to m (buades2015 uses 15, 21, 41); wider penumbrae are clamped (kernel_caps in --stats)";
+                "plane, up to m (buades2015 uses 15, 21, 41; 127, the most the blur holds, by default: screen penumbrae grow with the image); wider penumbrae are clamped (kernel_caps in --stats)";
         d.params.push_back(m);
         d.params.push_back({"alpha", "alpha", T::Float, "world units", 0.10, 0.0, 100.0, 0.01,
                             "step-2 reuse threshold: a horizontal blocker row is reused when |d - d_t| < alpha (light "
