@@ -61,12 +61,17 @@ TEST_F(HardCaseSoft, LightSizeZeroIsExactlyHard) {
     }
 }
 
-// Light size -> 0: the mean |v - v_hard| over the floor shrinks at least linearly in w. Measured
-// (40 px, sm_size 256), w = 0.4, 0.2, 0.1, 0.05: pcss 0.0158, 0.0077, 0.0039, 0 (ratio 0.49 per
-// halving, then the kernel falls below one texel); ssm-gbp06 and ssm-contour 0.0156, 0.0086,
-// 0.0047, 0.0015 (0.55, 0.54, 0.32); sssm 0.0052, 4e-5, 0, 0 (its screen-space kernel drops below
-// one pixel first). Asserted: each halving multiplies the difference by at most 0.65 (plus 1e-4
-// absolute for the exact zeros), and w = 0.4 is already within 0.03 of hard.
+// Light size -> 0: the mean |v - v_hard| over the floor shrinks at least linearly in w, and at the
+// rate the closed form's own distance from its hard shadow shrinks: a technique that always returns
+// the hard shadow (distance 0) fails, as one that stays soft does. Measured (40 px, sm_size 256;
+// the test prints them), w = 0.4, 0.2, 0.1, 0.05: closed form 0.0155, 0.0069, 0.0026, 0.0009; pcss
+// 0.0158, 0.0077, 0.0039, 0 (ratios to the closed form 1.02, 1.13, 1.50, then the kernel falls
+// below one texel); ssm-gbp06 0.0156, 0.0087, 0.0047, 0.0015 and ssm-contour 0.0156, 0.0086,
+// 0.0046, 0.0015 (ratios 1.01, 1.25, 1.81, 1.72); sssm 0.0052, 4e-5, 0, 0 (ratio 0.34 at w = 0.4:
+// its screen-space kernel, 4 px there, drops below one pixel first). Asserted: each halving
+// multiplies the difference by at most 0.65 (plus 1e-4 absolute for the exact zeros); at w = 0.4
+// the ratio to the closed form is within [0.8, 1.25] (sssm: at least 0.25) and at w = 0.2 within
+// [0.8, 1.6] for the three that filter in the map.
 TEST_F(HardCaseSoft, LightSizeToZeroConvergesToHard) {
     const Scene scene = loadScene(writeScene("so", squareOccluder(1.0)));
     const Render hard = renderSoft(scene, "hard");
@@ -76,8 +81,27 @@ TEST_F(HardCaseSoft, LightSizeToZeroConvergesToHard) {
             const Render r = renderSoft(scene, t, w);
             expectInvariants(r, t);
             const double d = floorMeanAbs(r, hard);
+            double exact = 0.0;
+            size_t n = 0;
+            for (size_t i = 0; i < r.ids.data.size(); ++i) {
+                if (r.ids.data[i] != 0.0f) continue;
+                const glm::vec3 p(r.positions.data[i * 3], 0.0f, r.positions.data[i * 3 + 2]);
+                exact += std::abs(squareOccluderVisibility(p, 0.5f, 2.0f, 4.0f, w) - squareOccluderVisibility(p, 0.5f, 2.0f, 4.0f, 0.0f));
+                ++n;
+            }
+            exact /= double(std::max<size_t>(n, 1));
+            std::printf("%s w %.3g: floor mean |v - v_hard| %.5g, closed form's %.5g, ratio %.3f\n", t, double(w), d, exact, d / exact);
             if (previous < 0.0) EXPECT_LT(d, 0.03) << t;
             else EXPECT_LE(d, 0.65 * previous + 1e-4) << t << " w " << w << " previous " << previous;
+            const bool screenSpace = std::string(t) == "sssm";
+            if (w == 0.4f) {
+                EXPECT_GE(d / exact, screenSpace ? 0.25 : 0.8) << t << ": no softer than hard at w = 0.4";
+                if (!screenSpace) EXPECT_LE(d / exact, 1.25) << t;
+            }
+            if (w == 0.2f && !screenSpace) {
+                EXPECT_GE(d / exact, 0.8) << t << " w 0.2";
+                EXPECT_LE(d / exact, 1.6) << t << " w 0.2";
+            }
             previous = d;
         }
     }
@@ -85,29 +109,33 @@ TEST_F(HardCaseSoft, LightSizeToZeroConvergesToHard) {
 
 // An occluder touching the receiver (the plate 1e-3 above the floor): the penumbra is
 // w * gap / (4 - gap) = 2.5e-4 wide, so the closed form is the plate's footprint; every
-// technique matches it (measured RMSE 0 for all four; asserted < 0.01, a few edge pixels).
+// technique matches it (measured RMSE 0 for all four, printed; asserted < 0.01, a few edge pixels).
 TEST_F(HardCaseSoft, OccluderTouchingTheReceiver) {
     const Scene scene = loadScene(writeScene("touch", squareOccluder(1.0, 0.5, 1e-3)));
     for (const char* t : kSoft) {
         const Render r = renderSoft(scene, t);
         expectInvariants(r, t);
-        EXPECT_LT(closedFormRmseSoft(r, 1.0, 0.5f, 1e-3f), 0.01) << t;
+        const double e = closedFormRmseSoft(r, 1.0, 0.5f, 1e-3f);
+        std::printf("%s touching: RMSE to the closed form %.4f\n", t, e);
+        EXPECT_LT(e, 0.01) << t;
     }
 }
 
 // An occluder almost at the light (the plate 0.01 below it): the blocker search and the filter or
 // back-projection kernels are widest here and must be clamped (pcss/sssm: 2 sm_size - 1 texels and
 // m; the ssm's: max_kernel), so a render at the default light size still finishes in bounded time
-// with sm_size 1024 (asserted < 20 s per render; measured well under a second at 40 px), and the
-// floor matches the closed form (almost all dark): measured RMSE 0.007 at sm_size 256, asserted
-// < 0.02 at both map sizes.
+// with sm_size 1024 (asserted < 20 s per render; measured at most 0.17 s at 40 px), and the
+// floor matches the closed form (almost all dark): measured RMSE 0.0070 for all four at both map
+// sizes (the test prints them), asserted < 0.02 at both.
 TEST_F(HardCaseSoft, OccluderAlmostAtTheLight) {
     const Scene scene = loadScene(writeScene("near-light", squareOccluder(1.0, 0.5, 3.99)));
     for (const char* t : kSoft) {
         for (const char* sm : {"256", "1024"}) {
             const Render r = renderSoft(scene, t, {}, {{"sm_size", sm}});
             expectInvariants(r, t);
-            EXPECT_LT(closedFormRmseSoft(r, 1.0, 0.5f, 3.99f), 0.02) << t << " sm_size " << sm;
+            const double e = closedFormRmseSoft(r, 1.0, 0.5f, 3.99f);
+            std::printf("%s near the light, sm_size %s: RMSE to the closed form %.4f, render %.3f s\n", t, sm, e, r.seconds);
+            EXPECT_LT(e, 0.02) << t << " sm_size " << sm;
             EXPECT_LT(r.seconds, 20.0) << t << " sm_size " << sm;
         }
     }
@@ -134,18 +162,21 @@ TEST_F(HardCaseSoft, GrazingReceivers) {
 }
 
 // Scene scale 1e-3 and 1e4: the RMSE against the closed form is the scale-1 RMSE within 0.003
-// (biases are in texels, near/far scale with the scene). Measured RMSE, equal to 4 digits at all
-// three scales: pcss 0.0113, sssm 0.0348, ssm-gbp06 0.0088, ssm-contour 0.0087.
+// (biases are in texels, near/far scale with the scene). Measured RMSE (printed), equal to 4 digits
+// at all three scales: pcss 0.0113, sssm 0.0348, ssm-gbp06 0.0088, ssm-contour 0.0087.
 TEST_F(HardCaseSoft, SquareOccluderClosedFormAtEveryScale) {
     for (const char* t : kSoft) {
         const Render r1 = renderSoft(loadScene(writeScene("s1", squareOccluder(1.0))), t);
         expectInvariants(r1, t);
         const double e1 = closedFormRmseSoft(r1, 1.0);
+        std::printf("%s scale 1: RMSE to the closed form %.4f\n", t, e1);
         EXPECT_LT(e1, std::string(t) == "sssm" ? 0.05 : 0.02) << t;
         for (double s : {1e-3, 1e4}) {
             const Render r = renderSoft(loadScene(writeScene("ss", squareOccluder(s))), t);
             expectInvariants(r, t);
-            EXPECT_NEAR(closedFormRmseSoft(r, s), e1, 0.003) << t << " scale " << s;
+            const double e = closedFormRmseSoft(r, s);
+            std::printf("%s scale %g: RMSE to the closed form %.4f\n", t, s, e);
+            EXPECT_NEAR(e, e1, 0.003) << t << " scale " << s;
         }
     }
 }
@@ -161,12 +192,15 @@ TEST_F(HardCaseSoft, SquareOccluderClosedFormAtEveryScale) {
 // `spike` of the mean of its two neighbours. Measured (41 px, sm_size 256; the test prints them),
 // column maxima of |v - exact| and |v - neighbours|, edge / corner:
 //   pcss 0.041 / 0.057 and 0.032; sssm 0.139 / 0.159 and 0.008; ssm-gbp06 0.030 / 0.029 and 0;
-//   ssm-contour 0.030 / 0.029 and 0; reference (256 samples) 0.009 and 0.010; raytraced (256 rays)
-//   0.008 / 0.007 and 0.010. At the centre pixel itself the references give 0.5000 and 0.7500.
-// Asserted about 1.5x those: the shadow-map techniques' 0.02-0.03 is the plate edge's position
-// quantised to the 256 map, the same off the degenerate column; sssm's 0.16 is its separable filter
-// darkening where the two edges' penumbrae cross near the corner, a property of the paper's
-// separable approximation, not of the degenerate edge (it shows no spike: 0.008).
+//   ssm-contour 0.030 / 0.029 and 0; reference (256 samples) 0.010 / 0.009 and 0.012 / 0.010;
+//   raytraced (256 rays) 0.008 / 0.007 and 0.010. At the centre pixel itself the references give
+//   0.5000 and 0.7500.
+// Asserted 1.3x (the reference's spike, 0.015 over 0.012) to 2x (sssm's spike, raytraced's closed
+// form) those, most about 1.5x; the ssm's spike bound 0.01 is a margin over their 0. The
+// shadow-map techniques' 0.02-0.03 is the plate edge's position quantised to the 256 map, the same
+// off the degenerate column; sssm's 0.16 is its separable filter darkening where the two edges'
+// penumbrae cross near the corner, a property of the paper's separable approximation, not of the
+// degenerate edge (it shows no spike: 0.008).
 // The column is exactly degenerate for the closed form, `reference` and `raytraced`; for the
 // shadow-map techniques the edge is the plate's edge quantised to a texel border, so their exactly
 // degenerate line runs within a third of a pixel of the column. Edges and vertices exactly through

@@ -72,19 +72,25 @@ ErrorStats errorStats(const Image& v, const Image& oracle, bool penumbraOnly = f
 
 class BackprojectionRender : public GLTest {};
 
-// ssm-contour against the closed form: 0.02 is the bound (measured: ~0.002, the texel
-// quantisation of the plate's border in a 1024^2 map). The plate is parallel to the light, so
-// GBP06's quads tile it without gaps or overlaps and ssm-gbp06 is just as close.
+// ssm-contour against the closed form, over the penumbra (closed form strictly between 0 and 1,
+// where back-projection acts): measured RMSE 0.0045 for both at 256 x 256 (0.0019 over the whole
+// floor), the texel quantisation of the plate's border in the map; bound 0.012, 2.7x. The plate is
+// parallel to the light, so GBP06's quads tile it without gaps or overlaps and ssm-gbp06 is just
+// as close. An HSM read or built one level off fails here (scripts/mutation-check.sh).
 TEST_F(BackprojectionRender, SquareOccluderMatchesClosedForm) {
     Scene scene = loadScene("square-occluder");
     for (const char* technique : {"ssm-contour", "ssm-gbp06"}) {
         Render r = render(scene, technique, {}, 256);
         ErrorStats e = errorStats(r.visibility, closedForm(r));
+        ErrorStats pen = errorStats(r.visibility, closedForm(r), true);
         EXPECT_GT(e.n, size_t(30000));
-        EXPECT_LE(e.rmse, 0.02) << technique;
+        EXPECT_GT(pen.n, size_t(3000));
+        EXPECT_LE(pen.rmse, 0.012) << technique;
         RecordProperty(std::string(technique) + "_rmse", std::to_string(e.rmse));
-        std::printf("[ square   ] %s vs closed form: RMSE %.5f mean error %.5f over %zu floor pixels\n", technique,
-                    e.rmse, e.mean, e.n);
+        RecordProperty(std::string(technique) + "_penumbra_rmse", std::to_string(pen.rmse));
+        std::printf("[ square   ] %s vs closed form: RMSE %.5f mean error %.5f over %zu floor pixels; penumbra RMSE %.5f "
+                    "over %zu\n",
+                    technique, e.rmse, e.mean, e.n, pen.rmse, pen.n);
     }
 }
 

@@ -1,7 +1,7 @@
 // The `backprojection` view (viz/view_backprojection.cpp) on ssm-contour and ssm-gbp06: the visible
-// fraction it prints (recomputed from the per-pixel record) equals the technique's visibility at
-// the pixel, its export loads back with one cell per edge or sample, and techniques without the
-// record are refused.
+// fraction it prints equals the technique's visibility at the pixel, its export loads back with one
+// cell per edge or sample, the hsm view marks the kernel steps `render --pixel` records, and
+// techniques without the record are refused.
 #include <gtest/gtest.h>
 
 #include <vtkCellData.h>
@@ -10,6 +10,7 @@
 #include <vtkNew.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 #include "error.h"
@@ -148,6 +149,21 @@ TEST_F(BackprojectionView, HsmMarksTheKernelStepsOfTheRecord) {
         }
     }
     EXPECT_NE(r.caption.find("steps"), std::string::npos);
+    // The same pixel's record as the command line writes it (--internals DIR/pixel.json).
+    const std::string dir = test::testPath("viz", "hsm-record");
+    std::filesystem::remove_all(dir);
+    const auto cli = test::run("render --scene square-occluder --technique ssm-contour --size 96x96 --set sm_size=256 "
+                               "--pixel 48,60 --out " + dir + ".png --internals " + dir);
+    ASSERT_EQ(cli.code, 0) << cli.output;
+    std::ifstream in(dir + "/pixel.json");
+    ASSERT_TRUE(in) << dir;
+    const nlohmann::json record = nlohmann::json::parse(in);
+    const auto& recorded = record["lights"][0]["kernel"]["steps"];
+    ASSERT_EQ(recorded.size(), r.data["steps"].size()) << recorded.dump() << " vs " << r.data["steps"].dump();
+    for (size_t i = 0; i < recorded.size(); ++i) {
+        EXPECT_EQ(recorded[i]["level"], r.data["steps"][i]["level"]) << i;
+        EXPECT_EQ(recorded[i]["texels"], r.data["steps"][i]["texels"]) << i;
+    }
     expectStepsInsideTheCrop(r);
     Renderer pcf(scene, [] { RenderOptions p; p.width = 64; p.height = 64; p.technique = "pcf"; return p; }());
     EXPECT_NE(viewRefusal(pcf, request).find("no min/max pyramid"), std::string::npos);
