@@ -3,7 +3,8 @@
 // own renderer, and the frames are interleaved (round r renders every configuration once) so that a
 // busy machine slows all of them alike. Every pass runs and is timed every frame
 // (RenderOptions::reuse = false; CPU clock around glFinish, llvmpipe's timer queries are wrong);
-// the first round is warm-up, per-pass times are medians over the others.
+// the first round is warm-up, per-pass times are medians over the others; the `rounds` column is
+// the lowest and highest shadow_ms of the timed rounds (benchmarks/spread.h).
 // Accuracy: PSNR and SSIM of the visibility against `reference` (N light samples, one shadow map
 // each), as the paper's Table 6 measures against its ground truth.
 // Usage: LP_NUM_THREADS=2 shadowlab_bench_buades2015 [size=384] [rounds=9] [reference samples=256]
@@ -18,6 +19,7 @@
 #include "graph/renderer.h"
 #include "image/metrics.h"
 #include "scene/scene.h"
+#include "spread.h"
 
 using namespace shadowlab;
 
@@ -31,6 +33,7 @@ struct Config {
     std::unique_ptr<Renderer> renderer;
     nlohmann::json stats;
     Metrics metrics;
+    std::vector<double> roundShadowMs;  // each timed round's shadow_ms (the spread)
 };
 
 double passMs(const nlohmann::json& stats, const std::string& pass) {
@@ -94,7 +97,10 @@ int main(int argc, char** argv) {
 
     // Interleaved rounds; frame numbers stay 0 (the plant is static, the time is the same).
     for (int r = 0; r < rounds + 1; ++r)
-        for (Config& c : configs) c.renderer->renderFrame(r, {"visibility"});
+        for (Config& c : configs) {
+            c.renderer->renderFrame(r, {"visibility"});
+            if (r > 0) c.roundShadowMs.push_back(bench::shadowMsOfFrame(*c.renderer, r));
+        }
 
     // The reference, once.
     RenderOptions refOptions;
@@ -111,8 +117,8 @@ int main(int argc, char** argv) {
                 "LP_NUM_THREADS=%s; reference: %d light samples (%.1f s)\n",
                 size, size, rounds, configs[0].renderer->clockName(), getenv("LP_NUM_THREADS") ? getenv("LP_NUM_THREADS") : "unset",
                 samples, refSeconds);
-    std::printf("%-22s %8s %8s %8s %8s %9s %7s %7s %7s   %s\n", "configuration", "DM", "step1", "step2", "step3",
-                "shadow_ms", "x pcss", "PSNR", "SSIM", "the paper (1024^2 map, GT 555M)");
+    std::printf("%-22s %8s %8s %8s %8s %9s %13s %7s %7s %7s   %s\n", "configuration", "DM", "step1", "step2", "step3",
+                "shadow_ms", "rounds", "x pcss", "PSNR", "SSIM", "the paper (1024^2 map, GT 555M)");
     double pcssMs = 0.0, pcssPsnr = 0.0;
     for (Config& c : configs) {
         c.stats = c.renderer->stats({}, 1, 1);
@@ -123,8 +129,11 @@ int main(int argc, char** argv) {
         double s1 = c.technique == "pcss" ? passMs(c.stats, "/blocker_search") : passMs(c.stats, "/step1");
         double s2 = c.technique == "pcss" ? passMs(c.stats, "/filter") : passMs(c.stats, "/step2");
         double s3 = c.technique == "pcss" ? 0.0 : passMs(c.stats, "/step3");
-        std::printf("%-22s %8.2f %8.2f %8.2f %8s %9.2f %7s %7.2f %6.2f%%   %s\n", c.label.c_str(), dm, s1, s2,
-                    c.technique == "pcss" ? "-" : std::to_string(s3).substr(0, 6).c_str(), shadow,
+        const bench::Spread spread = bench::spreadOf(c.roundShadowMs);
+        char range[32];
+        std::snprintf(range, sizeof range, "%.1f-%.1f", spread.lowest, spread.highest);
+        std::printf("%-22s %8.2f %8.2f %8.2f %8s %9.2f %13s %7s %7.2f %6.2f%%   %s\n", c.label.c_str(), dm, s1, s2,
+                    c.technique == "pcss" ? "-" : std::to_string(s3).substr(0, 6).c_str(), shadow, range,
                     pcssMs > 0 ? std::to_string(pcssMs / shadow).substr(0, 5).c_str() : "-", c.metrics.psnr,
                     100.0 * c.metrics.ssim, c.paper.c_str());
     }
