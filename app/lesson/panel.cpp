@@ -83,7 +83,7 @@ ImVec4 statusColour(LessonPlayer::TaskStatus s) {
 
 void drawLessonPanel(LessonPlayer& player, float fontScale) {
     const Lesson& lesson = player.lesson();
-    ImGui::Begin("Lesson");
+    ImGui::Begin("Lesson", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     ImGui::SetWindowFontScale(fontScale);
     // Keys work while no text field has the keyboard.
     if (!ImGui::GetIO().WantTextInput) {
@@ -95,7 +95,7 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
         if (letterPressed('M') && player.step().task) player.showMe();
     }
     const LessonStep& step = player.step();
-    ImGui::TextUnformatted(lesson.title.c_str());
+    ImGui::TextWrapped("%s", lesson.title.c_str());
     char progress[64];
     std::snprintf(progress, sizeof progress, "step %zu of %zu", player.stepIndex() + 1, player.stepCount());
     ImGui::ProgressBar(player.progress(), ImVec2(-1.0f, 0.0f), progress);
@@ -103,7 +103,17 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
     ImGui::Separator();
     ImGui::TextWrapped("%s", step.title.c_str());
     ImGui::Spacing();
-    ImGui::BeginChild("narration", ImVec2(0, -ImGui::GetFrameHeightWithSpacing() * (step.task ? 6.0f : 2.0f)), false);
+    // A button on the line of the one before when it fits in the column, else on the next line.
+    auto flowButton = [](const char* label, bool first) {
+        const ImGuiStyle& style = ImGui::GetStyle();
+        const float w = ImGui::CalcTextSize(label).x + 2.0f * style.FramePadding.x;
+        if (!first && ImGui::GetItemRectMax().x + style.ItemSpacing.x + w <=
+                          ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x)
+            ImGui::SameLine();
+        return ImGui::Button(label);
+    };
+    // The narration scrolls; the task and the buttons (up to two rows each) stay below it.
+    ImGui::BeginChild("narration", ImVec2(0, -ImGui::GetFrameHeightWithSpacing() * (step.task ? 8.0f : 3.0f)), false);
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextUnformatted(reflowNarration(step.narration).c_str());
     ImGui::PopTextWrapPos();
@@ -111,9 +121,8 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
     if (step.task) {
         ImGui::Separator();
         ImGui::TextWrapped("Try this: %s", step.task->prompt.c_str());
-        if (ImGui::Button("Check (C)")) player.checkTask();
-        ImGui::SameLine();
-        if (ImGui::Button("Show me (M)")) player.showMe();
+        if (flowButton("Check (C)", true)) player.checkTask();
+        if (flowButton("Show me (M)", false)) player.showMe();
         const LessonPlayer::Feedback& f = player.feedback();
         ImGui::PushStyleColor(ImGuiCol_Text, statusColour(f.status));
         ImGui::TextWrapped("%s", statusText(f.status));
@@ -122,17 +131,13 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
     }
     ImGui::Separator();
     ImGui::BeginDisabled(player.atFirst());
-    if (ImGui::Button("< Previous")) player.previous();
+    if (flowButton("< Previous", true)) player.previous();
     ImGui::EndDisabled();
-    ImGui::SameLine();
-    if (ImGui::Button("Restore step (R)")) player.restore();
-    ImGui::SameLine();
-    if (player.hasAnimation()) {
-        if (ImGui::Button(player.playing() ? "Pause (Space)" : "Play (Space)")) player.setPlaying(!player.playing());
-        ImGui::SameLine();
-    }
+    if (flowButton("Restore step (R)", false)) player.restore();
+    if (player.hasAnimation())
+        if (flowButton(player.playing() ? "Pause (Space)" : "Play (Space)", false)) player.setPlaying(!player.playing());
     ImGui::BeginDisabled(player.atLast());
-    if (ImGui::Button("Next >")) player.next();
+    if (flowButton("Next >", false)) player.next();
     ImGui::EndDisabled();
     ImGui::End();
 }

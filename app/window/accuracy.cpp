@@ -69,16 +69,21 @@ void Window::drawAccuracyChart() {
         accuracyFrame_->renderToTexture();
         accuracyDirty_ = false;
     }
-    ImGui::SetNextWindowPos(ImVec2(windowSize().x - float(w) - 24 * s, windowSize().y - float(h) - 90 * s),
-                            ImGuiCond_FirstUseEver);
-    ImGui::Begin("Accuracy vs time (A)", &state_.showAccuracy, ImGuiWindowFlags_AlwaysAutoResize);
+    // The last cell of the views strip (window/layout.h), the chart scaled into it.
+    if (layout_.cells.empty() || layout_.cells.back().empty()) return;
+    placeRegion(layout_.cells.back());
+    ImGui::Begin("Accuracy vs time (A)", &state_.showAccuracy,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     if (accuracyPoints_.empty())
         ImGui::TextWrapped("Points appear once the reference is complete: each setting you try is placed by its "
                            "shadow_ms and its RMSE against the reference (B computes it in the background).");
     else
         ImGui::Text("%zu setting(s) against one reference; the ring is the current one", accuracyPoints_.size());
-    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(accuracyFrame_->texture())),
-                 ImVec2(float(w), float(h)), ImVec2(0, 1), ImVec2(1, 0));
+    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    float ih = std::max(1.0f, avail.y - ImGui::GetFrameHeightWithSpacing()), iw = ih * float(w) / float(h);
+    if (iw > avail.x) iw = avail.x, ih = iw * float(h) / float(w);
+    ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(accuracyFrame_->texture())), ImVec2(iw, ih),
+                 ImVec2(0, 1), ImVec2(1, 0));
     if (ImGui::Button("clear")) {
         accuracyPoints_.clear();
         accuracyDirty_ = true;

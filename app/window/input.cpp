@@ -18,7 +18,7 @@ namespace shadowlab {
 
 const char* Window::helpText() {
     return "Keys\n"
-           "  F1            this list\n"
+           "  F1            this list;  F5: presentation mode (large text, one-line bars, wide narration)\n"
            "  T / Shift+T   next / previous technique\n"
            "  S / Shift+S   next / previous scene\n"
            "  1 .. 9        technique by its place in the list\n"
@@ -59,6 +59,7 @@ void Window::key(int key, int mods) {
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
     case GLFW_KEY_F1: state_.showHelp = !state_.showHelp; break;
+    case GLFW_KEY_F5: setPresentation(!state_.presentation); break;
     case GLFW_KEY_T: cycleTechnique(step); break;
     case GLFW_KEY_S: cycleScene(step); break;
     case GLFW_KEY_D: resetAllParams(); break;
@@ -130,14 +131,18 @@ void Window::key(int key, int mods) {
     }
 }
 
-void Window::mouseButton(int button, bool press, int mods, glm::vec2 at) {
-    mouse_ = at;
+// Mouse positions arrive in window units; the technique view's actions work in its own region
+// (window/layout.h): a press outside it starts nothing.
+void Window::mouseButton(int button, bool press, int mods, glm::vec2 windowAt) {
+    mouse_ = windowAt;
     if (!press) {
         if (drag_ != Drag::None) touch();
         drag_ = Drag::None;
         return;
     }
-    glm::vec2 size = windowSize();
+    if (!layout_.technique.contains(windowAt)) return;
+    const glm::vec2 at = toView(windowAt);
+    glm::vec2 size(layout_.technique.w, layout_.technique.h);
     dragStart_ = dragLast_ = at;
     if (button == GLFW_MOUSE_BUTTON_RIGHT || button == GLFW_MOUSE_BUTTON_MIDDLE) {
         drag_ = Drag::Pan;
@@ -187,10 +192,11 @@ void Window::mouseButton(int button, bool press, int mods, glm::vec2 at) {
     drag_ = Drag::Orbit;
 }
 
-void Window::mouseMove(glm::vec2 at) {
-    mouse_ = at;
+void Window::mouseMove(glm::vec2 windowAt) {
+    mouse_ = windowAt;
     if (drag_ == Drag::None) return;
-    glm::vec2 size = windowSize();
+    const glm::vec2 at = toView(windowAt);
+    glm::vec2 size(layout_.technique.w, layout_.technique.h);
     glm::vec2 delta = at - dragLast_;
     dragLast_ = at;
     noteInput();
@@ -281,7 +287,7 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         {"key", {1, 2}},      {"technique", {1, 1}}, {"scene", {1, 1}},      {"param", {2, 2}},
         {"reset-params", {0, 0}}, {"drag", {7, 7}},  {"scroll", {1, 1}},     {"pick", {2, 2}},
         {"split", {1, 1}},    {"split-at", {1, 1}},  {"error", {1, 1}},      {"frustum", {1, 1}},
-        {"ui-scale", {1, 1}}, {"help", {1, 1}},      {"panel", {1, 1}},      {"views", {1, 1}}, {"accuracy", {1, 1}}, {"save-accuracy", {1, 1}},
+        {"ui-scale", {1, 1}}, {"help", {1, 1}},      {"present", {1, 1}},    {"panel", {1, 1}},      {"views", {1, 1}}, {"accuracy", {1, 1}}, {"save-accuracy", {1, 1}},
         {"background", {1, 1}}, {"resize", {2, 2}},  {"wait", {1, 1}},       {"wait-reference", {0, 1}},
         {"screenshot", {1, 1}}, {"reference-samples", {1, 1}}, {"save-reference", {1, 1}},
         {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}, {"view", {1, 1}}, {"close-view", {1, 1}},
@@ -353,7 +359,7 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         } else if (c.verb == "split") {
             if (c.args[0] != "off" && c.args[0] != "reference" && !findTechnique(c.args[0]))
                 throw InputError(where + "split: expected off, reference or a technique, got '" + c.args[0] + "'");
-        } else if (c.verb == "error" || c.verb == "frustum" || c.verb == "help" || c.verb == "panel" ||
+        } else if (c.verb == "error" || c.verb == "frustum" || c.verb == "help" || c.verb == "panel" || c.verb == "present" ||
                    c.verb == "views" || c.verb == "background" || c.verb == "accuracy") {
             onOff(c.args[0]);
         } else if (c.verb == "screenshot" || c.verb == "save-reference" || c.verb == "save-visibility" ||
@@ -417,6 +423,7 @@ void Window::runScriptStep() {
         else if (c.verb == "frustum") state_.showFrustum = on(0);
         else if (c.verb == "ui-scale") setUiScale(std::stof(a[0]));
         else if (c.verb == "help") state_.showHelp = on(0);
+        else if (c.verb == "present") setPresentation(on(0));
         else if (c.verb == "panel") state_.showPanel = on(0);
         else if (c.verb == "views") state_.showViews = on(0);
         else if (c.verb == "accuracy") state_.showAccuracy = on(0);
@@ -459,7 +466,8 @@ void Window::runScriptStep() {
             // A left drag that starts on the selected light's centre (where the window draws it).
             if (state_.lights.empty()) continue;
             auto centre = projectToWindow(state_.camera, aspect(), state_.lights[size_t(state_.lightIndex)].position,
-                                          windowSize());
+                                          glm::vec2(layout_.technique.w, layout_.technique.h));
+            if (centre) *centre += glm::vec2(layout_.technique.x, layout_.technique.y);  // window units
             if (!centre) {
                 setStatus(scriptPath_ + ":" + std::to_string(c.line) + ": drag-light: the light is behind the camera", true);
                 scriptFailed_ = true;

@@ -44,10 +44,11 @@ public:
         w_.selectTechnique(id);  // parameters start at their defaults
     }
     void setParam(const std::string& key, const std::string& value) override {
-        // The window shows `reference` as its progressive reference: only N applies there (its
-        // shadow maps use the window's defaults), so the step's other keys are not sent.
+        // The window shows `reference` as its progressive reference: N and its shadow-map settings
+        // apply there.
         if (w_.state_.technique == "reference") {
             if (key == "samples") w_.setReferenceSamples(std::stoi(value));
+            else if (ProgressiveReference::isDepthParam(key)) w_.setReferenceParam(key, value);
             return;
         }
         w_.setParam(key, value);
@@ -59,8 +60,12 @@ public:
         referenceTechnique_ = technique;
         referenceParams_ = params;
         if (technique != "reference") return;
+        // Exactly the step's settings: what it does not name goes back to the reference's defaults.
+        w_.state_.referenceParams.clear();
+        w_.touch();
         for (const auto& [key, value] : params)
             if (key == "samples") w_.setReferenceSamples(std::stoi(value));
+            else if (ProgressiveReference::isDepthParam(key)) w_.setReferenceParam(key, value);
     }
     void showView(const std::string& view, bool shown) override {
         if (view == "visibility") return;  // the technique view is always shown
@@ -100,7 +105,7 @@ public:
         if (referenceTechnique_ == "reference") {
             ProgressiveReference& ref = w_.reference_;
             ref.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
-                     w_.state_.referenceSamples);
+                     w_.state_.referenceSamples, w_.state_.referenceParams);
             w_.referenceVersion_ = w_.version_;
             while (!ref.complete()) ref.step(1e9);
             b.reference = ref.visibility();
@@ -168,12 +173,9 @@ void Window::lessonAction(const std::string& action) {
 void Window::drawLesson(double seconds) {
     if (!lesson_) return;
     lesson_->update(seconds);
-    const float s = state_.uiScale;
-    glm::vec2 size = windowSize();
-    // Right of the panel, below the HUD (top right), above the views panel (bottom right).
-    ImGui::SetNextWindowPos(ImVec2(size.x - 460 * s - 8 * s, 120 * s), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(460 * s, std::max(200 * s, std::min(size.y - 250 * s, 520 * s))), ImGuiCond_FirstUseEver);
-    drawLessonPanel(*lesson_, 1.3f);
+    // The lesson's column on the right (window/layout.h): never over the image or the views.
+    placeRegion(layout_.lesson);
+    drawLessonPanel(*lesson_, state_.presentation ? 1.0f : 1.3f);
 }
 
 }  // namespace shadowlab

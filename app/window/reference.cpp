@@ -44,28 +44,35 @@ void ProgressiveReference::cancel() {
     ++generation_;
 }
 
+bool ProgressiveReference::isDepthParam(const std::string& key) {
+    return key == "sm_size" || key == "bias_const" || key == "bias_slope" || key == "plane_test";
+}
+
 void ProgressiveReference::sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width,
-                                int height, double time, int samples) {
+                                int height, double time, int samples, const std::map<std::string, std::string>& depthParams) {
     bool same = renderer_ && scene_ == &scene && sameCamera(camera, camera_) && width == width_ && height == height_ &&
-                time == time_ && samples == total_ && lights.size() == lights_.size();
+                time == time_ && samples == total_ && lights.size() == lights_.size() && depthParams == depthParams_;
     for (size_t i = 0; same && i < lights.size(); ++i) same = sameLight(lights[i], lights_[i]);
     if (same) return;
     ++generation_;
-    if (!renderer_ || scene_ != &scene) {
+    if (!renderer_ || scene_ != &scene || depthParams != depthParams_) {
+        depthParams_ = depthParams;
         renderer_.reset();
         RenderOptions options;
         options.width = width;
         options.height = height;
         options.technique = "hard";
         // Each sample's hard frame tests depth as `reference` does: its shadow-map settings (size,
-        // biases, the tangent-plane test), so the sum converges to what `reference` renders.
+        // biases, the tangent-plane test) as the step or the panel set them, else its defaults, so
+        // the sum converges to what `reference` renders with the same settings.
         const TechniqueDesc& reference = requireTechnique("reference", "progressive reference");
         for (const char* key : {"sm_size", "bias_const", "bias_slope", "plane_test"}) {
             const ParamDesc* p = reference.findParam(key);
             if (!p) continue;
+            auto set = depthParams.find(key);
             char value[32];
             std::snprintf(value, sizeof value, "%g", p->defaultValue);
-            options.sets.emplace_back(key, value);
+            options.sets.emplace_back(key, set != depthParams.end() ? set->second : std::string(value));
         }
         options.cpuClock = true;
         renderer_ = std::make_unique<Renderer>(scene, options);

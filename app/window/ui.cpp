@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "views.h"
 #include "window/window.h"
 
 namespace shadowlab {
@@ -111,13 +112,30 @@ void Window::drawUi() {
     glm::vec2 size = windowSize();
 
     // ---- the panel
-    if (state_.showPanel) {
-        ImGui::SetNextWindowPos(ImVec2(8 * s, 8 * s), ImGuiCond_Always);
-        ImGui::SetNextWindowSizeConstraints(ImVec2(300 * s, 100 * s), ImVec2(380 * s, size.y - 16 * s));
+    const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
+    if (state_.showPanel && state_.presentation && !layout_.panel.empty()) {
+        // Presentation: one line, the technique and the lesson's step, nothing to tune.
+        placeRegion(layout_.panel);
+        ImGui::Begin("##bar", nullptr, fixed | ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoScrollbar);
+        ImGui::Text("%s  on  %s", state_.technique.c_str(), scene_->name.c_str());
+        ImGui::SameLine();
+        ImGui::TextDisabled("   (F5 leaves presentation mode)");
+        ImGui::End();
+    } else if (state_.showPanel && !layout_.panel.empty()) {
+        placeRegion(layout_.panel);
         ImGui::SetNextWindowBgAlpha(0.88f);
-        ImGui::Begin("shadowlab (Tab hides, F1 keys)", &state_.showPanel,
-                     ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
-        ImGui::PushItemWidth(170 * s);
+        ImGui::Begin("shadowlab (Tab hides, F1 keys)", &state_.showPanel, fixed);
+        ImGui::PushItemWidth(std::min(170 * s, 0.5f * layout_.panel.w));
+        if (ImGui::BeginCombo("open a view", "...")) {  // the views open in the strip under the image
+            for (const ViewInfo& info : listViews()) {
+                if (ImGui::Selectable(info.name.c_str())) {
+                    openView(info.name);
+                    state_.showViews = true;
+                }
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\napplies to: %s", info.doc.c_str(), info.appliesTo.c_str());
+            }
+            ImGui::EndCombo();
+        }
 
         if (ImGui::CollapsingHeader("Technique", ImGuiTreeNodeFlags_DefaultOpen)) {
             for (const std::string& id : techniques_) {
@@ -262,11 +280,19 @@ void Window::drawUi() {
             stats_ = renderer_->stats({}, 0, 0);
             statsTime_ = clock::now();
         }
-        ImGui::SetNextWindowPos(ImVec2(size.x - 8 * s, 8 * s), ImGuiCond_Always, ImVec2(1, 0));
-        ImGui::SetNextWindowBgAlpha(0.6f);
+        placeRegion(layout_.hud);
+        ImGui::SetNextWindowBgAlpha(0.88f);
         ImGui::Begin("##hud", nullptr,
-                     ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
-                         ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+                     ImGuiWindowFlags_NoDecoration | fixed | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+        bool currentMetrics = metricsAll_ && metricsGeneration_ == reference_.generation() && metricsVersion_ == version_ &&
+                              reference_.complete();
+        if (state_.presentation) {  // the technique, shadow_ms and RMSE, nothing else
+            ImGui::Text("%s   shadow_ms %.1f", state_.technique.c_str(), stats_.value("shadow_ms", 0.0));
+            ImGui::SameLine();
+            if (currentMetrics) ImGui::Text("   RMSE %.4f", metricsAll_->rmse);
+            else ImGui::TextDisabled("   RMSE once the reference is complete");
+            ImGui::End();
+        } else {
         ImGui::Text("%s  on  %s", state_.technique.c_str(), scene_->name.c_str());
         ImGui::Text("%dx%d%s   clock %s", renderer_->width(), renderer_->height(), reduced_ ? " (reduced while dragging)" : "",
                     renderer_->clockName());
@@ -327,15 +353,18 @@ void Window::drawUi() {
             if (!(reference_.active() && reference_.done() > 0)) ImGui::TextDisabled("waiting for the reference");
         }
         ImGui::End();
+        }
     }
 
     // ---- status line
     if (!status_.empty() && std::chrono::duration<double>(clock::now() - statusTime_).count() < 5.0) {
-        ImGui::SetNextWindowPos(ImVec2(size.x * 0.5f, size.y - 8 * s), ImGuiCond_Always, ImVec2(0.5f, 1.0f));
+        placeRegion(layout_.status);
         ImGui::SetNextWindowBgAlpha(0.6f);
+        ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(6 * s, 2 * s));
         ImGui::Begin("##status", nullptr,
-                     ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
-                         ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs);
+                     ImGuiWindowFlags_NoDecoration | fixed | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
+                         ImGuiWindowFlags_NoInputs);
+        ImGui::PopStyleVar();
         if (statusError_) ImGui::TextColored(ImVec4(1, 0.45f, 0.4f, 1), "%s", status_.c_str());
         else ImGui::TextUnformatted(status_.c_str());
         ImGui::End();

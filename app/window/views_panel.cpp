@@ -104,32 +104,34 @@ void Window::updateViews() {
     }
 }
 
+// The views strip (window/layout.h): one fixed window per open view, in its cell under the
+// technique view; the image scaled into the cell at its own aspect, its caption below.
 void Window::drawViewsPanel() {
     const float s = state_.uiScale;
-    glm::vec2 size = windowSize();
-    ImGui::SetNextWindowPos(ImVec2(size.x - 8 * s, size.y - 8 * s), ImGuiCond_Always, ImVec2(1, 1));
-    ImGui::SetNextWindowBgAlpha(0.92f);
-    ImGui::Begin("Views (V)", &state_.showViews, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
-    if (ImGui::BeginCombo("open a view", "...")) {
-        for (const ViewInfo& info : listViews()) {
-            if (ImGui::Selectable(info.name.c_str())) openView(info.name);
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\napplies to: %s", info.doc.c_str(), info.appliesTo.c_str());
-        }
-        ImGui::EndCombo();
-    }
-    if (!state_.pickedPixel) ImGui::TextDisabled("Ctrl+click in the view picks the pixel the views show");
     std::string toClose;
-    bool first = true;
-    for (auto& v : views_) {  // side by side along the bottom, clear of the HUD and the panel
-        ImGui::PushID(v->name.c_str());
-        if (!first) ImGui::SameLine();
-        first = false;
-        ImGui::BeginGroup();
+    const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                                   ImGuiWindowFlags_NoTitleBar;
+    for (size_t i = 0; i < views_.size() && i < layout_.cells.size(); ++i) {
+        auto& v = views_[i];
+        const LayoutRect& cell = layout_.cells[i];
+        if (cell.empty()) continue;
+        placeRegion(cell);
+        ImGui::SetNextWindowBgAlpha(0.92f);
+        ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(2 * s, 2 * s));
+        ImGui::Begin(("##view " + v->name).c_str(), nullptr, fixed);
+        ImGui::PopStyleVar();
         ImGui::TextUnformatted(v->name.c_str());
         ImGui::SameLine();
+        ImGui::PushID(v->name.c_str());
         if (ImGui::SmallButton("close")) toClose = v->name;
+        ImGui::PopID();
+        const float captionBand = ImGui::GetTextLineHeightWithSpacing() * 2.0f;
+        const ImVec2 avail = ImGui::GetContentRegionAvail();
         if (v->valid && v->frame) {
-            ImVec2 picture(float(v->frame->width()), float(v->frame->height()));
+            const float aspect = float(v->frame->width()) / float(std::max(1, v->frame->height()));
+            float h = std::max(1.0f, avail.y - captionBand), w = h * aspect;
+            if (w > avail.x) w = avail.x, h = w / aspect;
+            ImVec2 picture(w, h);
             // GL's row 0 is the bottom: flip v.
             ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(v->frame->texture())), picture,
                          ImVec2(0, 1), ImVec2(1, 0));
@@ -141,21 +143,24 @@ void Window::drawViewsPanel() {
                 }
                 if (io.MouseWheel != 0.0f) v->zoom = std::clamp(v->zoom * (io.MouseWheel > 0 ? 1.1f : 1.0f / 1.1f), 0.1f, 20.0f);
             }
-            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + picture.x);
+            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + avail.x);
             ImGui::TextUnformatted(v->caption.c_str());
             ImGui::PopTextWrapPos();
         } else if (!v->refusal.empty()) {
-            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 300 * s);
+            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + avail.x);
             ImGui::TextDisabled("%s", v->refusal.c_str());
             ImGui::PopTextWrapPos();
         } else {
             ImGui::TextDisabled("rendering ...");
         }
-        ImGui::EndGroup();
-        ImGui::PopID();
+        if (!state_.pickedPixel && i == 0) {
+            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + avail.x);
+            ImGui::TextDisabled("Ctrl+click in the image picks the pixel the views show");
+            ImGui::PopTextWrapPos();
+        }
+        ImGui::End();
     }
     if (!toClose.empty()) closeView(toClose);
-    ImGui::End();
 }
 
 }  // namespace shadowlab

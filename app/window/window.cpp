@@ -102,6 +102,7 @@ Window::Window(GLFWwindow* window, WindowState state, bool software)
     errorDummy_ = Texture::create2D(1, 1, Format::R32F);
     if (const TechniqueDesc* ref = findTechnique("reference"))
         if (const ParamDesc* p = ref->findParam("samples")) state_.referenceSamples = int(p->defaultValue);
+    updateLayout();
     if (!rebuildScene()) throw InputError("window: " + status_);
 }
 
@@ -114,14 +115,48 @@ glm::vec2 Window::windowSize() const {
 }
 
 float Window::aspect() const {
-    glm::vec2 s = windowSize();
-    return s.x / s.y;
+    glm::ivec2 s = renderSize();
+    return float(s.x) / float(s.y);
 }
 
-glm::ivec2 Window::renderSize() const {
+glm::ivec2 Window::framebufferSize() const {
     int w = 1, h = 1;
     glfwGetFramebufferSize(window_, &w, &h);
     return glm::ivec2(std::max(1, w), std::max(1, h));
+}
+
+glm::ivec2 Window::renderSize() const {
+    const glm::vec2 scale = glm::vec2(framebufferSize()) / windowSize();  // HiDPI: pixels per window unit
+    const LayoutRect& r = layout_.technique;
+    return glm::max(glm::ivec2(1), glm::ivec2(glm::round(glm::vec2(r.w, r.h) * scale)));
+}
+
+glm::vec2 Window::toView(glm::vec2 windowPoint) const {
+    return windowPoint - glm::vec2(layout_.technique.x, layout_.technique.y);
+}
+
+void Window::updateLayout() {
+    // Presentation: body text at least 1/40 of the window's height, whatever its size.
+    if (state_.presentation) state_.uiScale = presentationUiScale(windowSize().y);
+    LayoutInput in;
+    in.window = windowSize();
+    in.uiScale = state_.uiScale;
+    in.panel = state_.showPanel;
+    in.hud = state_.showHud;
+    in.lesson = lesson_ != nullptr;
+    in.present = state_.presentation;
+    if (state_.showViews)
+        for (const auto& v : views_) {
+            (void)v;
+            in.cellAspects.push_back(4.0f / 3.0f);  // the views render at 300 x 225 (views_panel.cpp)
+        }
+    if (state_.showAccuracy) in.cellAspects.push_back(560.0f / 380.0f);
+    layout_ = computeWindowLayout(in);
+}
+
+void Window::placeRegion(const LayoutRect& r) const {
+    ImGui::SetNextWindowPos(ImVec2(r.x, r.y), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(r.w, r.h), ImGuiCond_Always);
 }
 
 bool Window::interacting() const {
@@ -219,10 +254,10 @@ void Window::setParam(const std::string& key, const std::string& value) {
             } catch (const InputError& e) {
                 setStatus(e.what(), true);
             }
+        } else if (ProgressiveReference::isDepthParam(key)) {
+            setReferenceParam(key, value);
         } else {
-            setStatus("the progressive reference uses the reference's shadow-map defaults; '" + key +
-                          "' applies to `shadowlab render --technique reference`",
-                      true);
+            setStatus("the progressive reference has no '" + key + "'", true);
         }
         return;
     }
@@ -305,7 +340,32 @@ void Window::setReferenceSamples(int samples) {
     touch();
 }
 
-void Window::setUiScale(float scale) { state_.uiScale = std::clamp(scale, 0.5f, 4.0f); }
+void Window::setReferenceParam(const std::string& key, const std::string& value) {
+    try {
+        if (!ProgressiveReference::isDepthParam(key))
+            throw InputError("window: the progressive reference takes samples, sm_size, bias_const, bias_slope and "
+                             "plane_test, not '" + key + "'");
+        const TechniqueDesc& reference = *findTechnique("reference");
+        ParamValues check(reference);
+        check.set(reference, key, value, "window");  // a bad value is refused, naming the key
+        state_.referenceParams[key] = value;
+        touch();
+    } catch (const InputError& e) {
+        setStatus(e.what(), true);
+    }
+}
+
+void Window::setUiScale(float scale) {
+    state_.uiScale = std::clamp(scale, 0.5f, 4.0f);
+    if (!state_.presentation) normalUiScale_ = state_.uiScale;
+}
+
+void Window::setPresentation(bool on) {
+    if (on == state_.presentation) return;
+    state_.presentation = on;
+    if (!on) state_.uiScale = normalUiScale_;
+    setStatus(on ? "presentation mode (F5 leaves it)" : "presentation mode off");
+}
 
 void Window::cycleTechnique(int step) {
     std::vector<std::string> live;
@@ -376,7 +436,8 @@ void Window::renderViews() {
                (std::chrono::duration<double>(clock::now() - lastInput_).count() > 0.5 || scriptWaitReference_ > 0)) {
         // Half a second without input first: a sample can cost more than a frame on llvmpipe, and a
         // pause between two drags should not wait for one.
-        reference_.sync(*scene_, state_.camera, state_.lights, full.x, full.y, state_.time, state_.referenceSamples);
+        reference_.sync(*scene_, state_.camera, state_.lights, full.x, full.y, state_.time, state_.referenceSamples,
+                        state_.referenceParams);
         referenceVersion_ = version_;
         // The UI keeps 30 fps when one sample fits: what is left of 33 ms after the technique's frame.
         reference_.step(std::max(1.0, 30.0 - renderMs_));
@@ -403,6 +464,7 @@ void Window::updateMetrics() {
 // a blit: on llvmpipe a full-window shader pass per frame cost more than a reduced render.
 void Window::present() {
     glm::ivec2 fb = renderSize();
+    const glm::ivec2 window = framebufferSize();
     glm::ivec2 size(renderer_->width(), renderer_->height());
     bool referenceShown = reference_.active() && reference_.done() > 0 && referenceVersion_ == version_;
     GLuint a = renderer_->imageTexture().id(), b = a;
@@ -463,18 +525,32 @@ void Window::present() {
         presentKey_ = key;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glViewport(0, 0, fb.x, fb.y);
+    glViewport(0, 0, window.x, window.y);
     glDisable(GL_SCISSOR_TEST);
-    glBlitNamedFramebuffer(viewCacheFbo_.id(), 0, 0, 0, size.x, size.y, 0, 0, fb.x, fb.y, GL_COLOR_BUFFER_BIT,
+    glClearColor(0.09f, 0.10f, 0.12f, 1.0f);  // the regions around the technique view
+    glClear(GL_COLOR_BUFFER_BIT);
+    // Into the technique view's region (GL's rows count from the bottom).
+    const glm::vec2 scale = glm::vec2(window) / windowSize();
+    const int x0 = int(std::lround(layout_.technique.x * scale.x));
+    const int y1 = window.y - int(std::lround(layout_.technique.y * scale.y));
+    glBlitNamedFramebuffer(viewCacheFbo_.id(), 0, 0, 0, size.x, size.y, x0, y1 - fb.y, x0 + fb.x, y1, GL_COLOR_BUFFER_BIT,
                            size == fb ? GL_NEAREST : GL_LINEAR);
 }
 
 void Window::drawOverlay() {
     ImDrawList* draw = ImGui::GetBackgroundDrawList();
-    glm::vec2 size = windowSize();
+    // Everything here is drawn over the technique view, in its region, clipped to it.
+    const LayoutRect& view = layout_.technique;
+    const glm::vec2 origin(view.x, view.y);
+    glm::vec2 size(std::max(view.w, 1.0f), std::max(view.h, 1.0f));
     float aspectRatio = size.x / size.y;
     float s = state_.uiScale;
-    auto project = [&](const glm::vec3& p) { return projectToWindow(state_.camera, aspectRatio, p, size); };
+    draw->PushClipRect(ImVec2(view.x, view.y), ImVec2(view.right(), view.bottom()), true);
+    auto project = [&](const glm::vec3& p) -> std::optional<glm::vec2> {
+        auto q = projectToWindow(state_.camera, aspectRatio, p, size);
+        if (q) *q += origin;
+        return q;
+    };
     auto line = [&](const glm::vec3& p, const glm::vec3& q, ImU32 colour, float width) {
         auto a = project(p), b = project(q);
         if (a && b) draw->AddLine(ImVec2(a->x, a->y), ImVec2(b->x, b->y), colour, width);
@@ -503,19 +579,32 @@ void Window::drawOverlay() {
         }
     }
     if (state_.compare != WindowState::Compare::None && !state_.errorView) {
-        float x = state_.split * size.x;
-        draw->AddLine(ImVec2(x, 0), ImVec2(x, size.y), rgba(255, 255, 255, 220), 2.0f * s);
-        draw->AddCircleFilled(ImVec2(x, size.y * 0.5f), 8.0f * s, rgba(255, 255, 255, 220));
+        float x = origin.x + state_.split * size.x;
+        draw->AddLine(ImVec2(x, origin.y), ImVec2(x, origin.y + size.y), rgba(255, 255, 255, 220), 2.0f * s);
+        draw->AddCircleFilled(ImVec2(x, origin.y + size.y * 0.5f), 8.0f * s, rgba(255, 255, 255, 220));
+        // Which side is which, on the image: the left technique's name, the right one's.
+        const std::string right = state_.compare == WindowState::Compare::Reference ? "reference" : state_.compareTechnique;
+        auto label = [&](const std::string& text, float atX, bool alignRight) {
+            const ImVec2 t = ImGui::CalcTextSize(text.c_str());
+            const float pad = 4.0f * s;
+            const float x0 = alignRight ? atX - t.x - 3.0f * pad : atX + 2.0f * pad;
+            const float y0 = origin.y + 6.0f * s;
+            draw->AddRectFilled(ImVec2(x0, y0), ImVec2(x0 + t.x + 2 * pad, y0 + t.y + 2 * pad), rgba(0, 0, 0, 170), 3.0f * s);
+            draw->AddText(ImVec2(x0 + pad, y0 + pad), rgba(255, 255, 255), text.c_str());
+        };
+        label(state_.technique, x, true);
+        label(right, x, false);
     }
     if (state_.pickedPixel) {
         glm::ivec2 fb = renderSize();
-        glm::vec2 p = (glm::vec2(*state_.pickedPixel) + 0.5f) * size / glm::vec2(fb);
+        glm::vec2 p = origin + (glm::vec2(*state_.pickedPixel) + 0.5f) * size / glm::vec2(fb);
         ImU32 c = rgba(255, 60, 200);
         draw->AddLine(ImVec2(p.x - 10 * s, p.y), ImVec2(p.x - 3 * s, p.y), c, 2.0f * s);
         draw->AddLine(ImVec2(p.x + 3 * s, p.y), ImVec2(p.x + 10 * s, p.y), c, 2.0f * s);
         draw->AddLine(ImVec2(p.x, p.y - 10 * s), ImVec2(p.x, p.y - 3 * s), c, 2.0f * s);
         draw->AddLine(ImVec2(p.x, p.y + 3 * s), ImVec2(p.x, p.y + 10 * s), c, 2.0f * s);
     }
+    draw->PopClipRect();
 }
 
 double Window::frame() {
@@ -545,6 +634,7 @@ double Window::frame() {
         phase = clock::now();
     };
     syncViewList();
+    updateLayout();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
@@ -576,7 +666,7 @@ double Window::frame() {
 }
 
 void Window::takeScreenshot(const std::string& path) {
-    glm::ivec2 fb = renderSize();
+    glm::ivec2 fb = framebufferSize();
     std::vector<unsigned char> rgb(size_t(fb.x) * fb.y * 3);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -604,6 +694,7 @@ std::string Window::lastFrameReport() const {
     nlohmann::json j{{"frame_ms", frameMs_}, {"render_ms", renderMs_}, {"reduced", reduced_},
                      {"interacting", interacting()}, {"render_size", {size.x, size.y}},
                      {"reference_samples", reference_.done()},
+                     {"window", {windowSize().x, windowSize().y}}, {"layout", layout_.toJson()},
                      {"phases_ms", {{"ui", phaseMs_[0]}, {"render_and_reference", phaseMs_[1]}, {"present", phaseMs_[2]},
                                     {"imgui_draw", phaseMs_[3]}, {"swap", phaseMs_[4]}}}};
     if (!state_.lights.empty()) {
@@ -659,7 +750,7 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
     Options opts("window", args, 0,
                  {"--scene", "--technique", "--size", "--screenshot", "--frames", "--script", "--report", "--ui-scale",
                   "--lesson"},
-                 {"--no-reduce"});
+                 {"--no-reduce", "--present"});
     if (!opts.positional().empty()) throw InputError("window: unexpected argument '" + opts.positional()[0] + "'");
     WindowState state;
     state.scene = opts.get("--scene", "square-occluder");
@@ -677,6 +768,7 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
     int maxFrames = opts.getInt("--frames", screenshot.empty() ? 0 : 3, 0, 1000000);
     state.uiScale = opts.getFloat("--ui-scale", 1.0f, 0.5f, 4.0f);
     state.reduceWhileDragging = !opts.has("--no-reduce");
+    state.presentation = opts.has("--present");
     std::string reportPath = opts.get("--report");
     if (!reportPath.empty()) checkOutputPath("--report", reportPath);
     std::deque<ScriptCommand> script;

@@ -25,6 +25,7 @@
 #include "image/image.h"
 #include "image/metrics.h"
 #include "scene/scene.h"
+#include "window/layout.h"
 
 struct GLFWwindow;
 
@@ -59,7 +60,11 @@ struct WindowState {
     int reduceFactor = 4;                   // at most (the factor adapts to the last full render's cost)
     bool backgroundReference = true;        // accumulate the reference whenever the input is idle
     int referenceSamples = 1024;            // N of `reference` (its descriptor's default)
+    // The reference's shadow-map settings away from its defaults (sm_size, bias_const, bias_slope,
+    // plane_test): a lesson's `reference reference ...` or the panel with `reference` selected.
+    std::map<std::string, std::string> referenceParams;
     float uiScale = 1.0f;
+    bool presentation = false;  // presentation mode (--present, F5): one-line bars, large text, wide narration
     bool showPanel = true, showHud = true, showHelp = false, showViews = false;
     bool showAccuracy = false;  // the accuracy-time chart of the settings tried (A)
     std::vector<std::string> openViews;  // VTK views shown in the views panel (viz/views.h names)
@@ -72,7 +77,9 @@ class ProgressiveReference {
 public:
     // Restarts when the scene, camera, lights, size or time differ from the running accumulation.
     void sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width, int height,
-              double time, int samples);
+              double time, int samples, const std::map<std::string, std::string>& depthParams = {});
+    // The `reference` parameters each sample's hard frame takes (the rest is the sample count).
+    static bool isDepthParam(const std::string& key);
     void cancel();
     // Runs light samples until `budgetMs` of wall time is spent (at least one); returns how many ran.
     int step(double budgetMs);
@@ -94,6 +101,7 @@ private:
     const Scene* scene_ = nullptr;
     Camera camera_;
     std::vector<Light> lights_;
+    std::map<std::string, std::string> depthParams_;
     int width_ = 0, height_ = 0, total_ = 0, done_ = 0;
     double time_ = 0.0, weightSum_ = 0.0, lastSampleMs_ = 0.0;
     uint64_t generation_ = 0;
@@ -129,7 +137,11 @@ public:
     void setErrorView(bool on);
     void setSplit(float split);
     void setUiScale(float scale);
+    void setPresentation(bool on);  // presentation mode (F5, --present): the UI scale follows the window's height
     void setReferenceSamples(int samples);  // N of the progressive reference (restarts it)
+    // One of the reference's shadow-map settings (ProgressiveReference::isDepthParam), checked
+    // against the `reference` descriptor; restarts the progressive reference.
+    void setReferenceParam(const std::string& key, const std::string& value);
     void cycleTechnique(int step);
     void cycleScene(int step);
     void screenshot(const std::string& path);  // the whole window, UI included, after this frame
@@ -160,7 +172,10 @@ public:
     const std::vector<std::string>& techniques() const { return techniques_; }
     const std::vector<std::string>& scenes() const { return scenes_; }
     bool interacting() const;
+    // The technique view's size in framebuffer pixels: its region of the layout (window/layout.h).
     glm::ivec2 renderSize() const;
+    glm::ivec2 framebufferSize() const;  // the whole window
+    const WindowLayout& layout() const { return layout_; }
     std::string lastFrameReport() const;
 
     static const char* helpText();  // F1: every key and mouse action
@@ -185,8 +200,11 @@ private:
     void noteInput() { lastInput_ = clock::now(); }  // a drag, wheel or arrow key: render reduced for a moment
     void updateMetrics();
     void setStatus(const std::string& text, bool error = false);
-    glm::vec2 windowSize() const;
-    float aspect() const;
+    glm::vec2 windowSize() const;   // the whole window, in window units
+    float aspect() const;           // the technique view's
+    void updateLayout();            // layout_ from the window's size, the scale and what is open
+    void placeRegion(const LayoutRect& r) const;  // the next ImGui window fixed at r
+    glm::vec2 toView(glm::vec2 windowPoint) const;  // window units -> the technique view's
 
     using clock = std::chrono::steady_clock;
     GLFWwindow* window_;
@@ -197,6 +215,8 @@ private:
     std::unique_ptr<Renderer> renderer_, compareRenderer_;
     ProgressiveReference reference_;
     ShaderProgram present_;
+    WindowLayout layout_;
+    float normalUiScale_ = 1.0f;  // the UI scale to go back to when presentation mode ends
     Texture errorDummy_;
     Texture viewCache_;          // the composed technique view (sRGB RGBA8), at the render's size
     Framebuffer viewCacheFbo_;

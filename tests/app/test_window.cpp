@@ -139,6 +139,11 @@ TEST(Window, EveryTechniqueSceneCameraLightAndResize) {
                 if (shots[k].second == "key Shift+S (back to square-occluder)") first = k;
             EXPECT_LT(meanDiff(images[i], images[first]), 1e-6) << what;
             EXPECT_GT(d, 0.0005) << what;
+        } else if (what.find("ssm-contour") != std::string::npos && shots[i - 1].second.find("ssm-gbp06") != std::string::npos) {
+            // Both back-projections are exact on square-occluder's plate parallel to the light (its
+            // samples tile it: RMSE 0.0045 over the penumbra for both, test_backprojection_render.cpp):
+            // the same picture to rounding.
+            EXPECT_LT(d, 0.0005) << what;
         } else {
             EXPECT_GT(d, 0.0005) << what << " (shot " << i << ")";
         }
@@ -156,9 +161,15 @@ TEST(Window, ProgressiveReferenceEqualsTheReferenceCommand) {
                                   << "\nsave-visibility " << tmp("pcf.pfm") << "\n";
     auto r = runXvfb("window --scene square-occluder --technique pcf --size 200x150 --script " + tmp("ref.txt"));
     ASSERT_EQ(r.code, 0) << r.output;
-    auto c = run("reference --scene square-occluder --samples 32 --size 200x150 --out " + tmp("cli.pfm"));
+    // The technique view is the window less its status line (window/layout.h): the commands render
+    // at the size the window rendered.
+    const Image shown = shadowlab::readPFM(tmp("pcf.pfm"));
+    const std::string size = std::to_string(shown.width) + "x" + std::to_string(shown.height);
+    EXPECT_GT(shown.width, 100);
+    EXPECT_GT(shown.height, 100);
+    auto c = run("reference --scene square-occluder --samples 32 --size " + size + " --out " + tmp("cli.pfm"));
     ASSERT_EQ(c.code, 0) << c.output;
-    auto p = run("render --scene square-occluder --technique pcf --size 200x150 --visibility " + tmp("cli-pcf.pfm"));
+    auto p = run("render --scene square-occluder --technique pcf --size " + size + " --visibility " + tmp("cli-pcf.pfm"));
     ASSERT_EQ(p.code, 0) << p.output;
     Image w = shadowlab::readPFM(tmp("window.pfm")), ref = shadowlab::readPFM(tmp("cli.pfm"));
     Image wp = shadowlab::readPFM(tmp("pcf.pfm")), cp = shadowlab::readPFM(tmp("cli-pcf.pfm"));

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sys/wait.h>
 
+#include <nlohmann/json.hpp>
+
 #include "image/image.h"
 #include "support/cli_run.h"
 
@@ -68,6 +70,56 @@ TEST(WindowLesson, StepsRestoreTheirStateAndTasksCheckBothWays) {
     EXPECT_NE(notYet, std::string::npos) << r.output;
     EXPECT_NE(passed, std::string::npos) << r.output;
     EXPECT_LT(notYet, passed);
+}
+
+// The classroom's check is the handout's: backprojection's step 3 in the window at 1024x768,
+// Show me, the progressive reference complete, Check prints "passed" with the figure the headless
+// `lesson --headless` computes at the size the window rendered. Both take the step's reference
+// settings (128 samples, sm_size 512, biases 0.5 / 0, the tangent-plane test) and sum the same
+// light samples in another order: float rounding of v, so the mean over the penumbra agrees to
+// 1e-4 (measured equal to all 4 printed digits, 0.05156; before the window took the step's
+// sm_size it gave 0.0468).
+TEST(WindowLesson, TaskCheckedInTheWindowEqualsTheHeadlessCheck) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    const std::string scriptPath = tmp("bp.txt"), report = tmp("bp-report.json"), handout = tmp("bp-handout");
+    std::ofstream(scriptPath) << "lesson next\nlesson next\nlesson show-me\nwait 2\nwait-reference 4000\nlesson check\nwait 1\n";
+    fs::remove(report);
+    shadowlab::test::Result r;
+    {
+        std::string command = "xvfb-run -a -s '-screen 0 1100x800x24' " + std::string(SHADOWLAB_BINARY) +
+                              " window --lesson backprojection --size 1024x768 --script " + scriptPath + " --report " + report +
+                              " 2>&1";
+        FILE* pipe = popen(command.c_str(), "r");
+        ASSERT_TRUE(pipe);
+        char buffer[4096];
+        size_t n;
+        while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
+        const int status = pclose(pipe);
+        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+    ASSERT_EQ(r.code, 0) << r.output;
+    const std::string key = "lesson: step 3: passed: mean(error in penumbra) < 0.058: ";
+    const size_t at = r.output.find(key);
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const double window = std::stod(r.output.substr(at + key.size()));
+    std::ifstream in(report);
+    ASSERT_TRUE(in);
+    const nlohmann::json frames = nlohmann::json::parse(in)["frames"];
+    ASSERT_FALSE(frames.empty());
+    const auto& size = frames.back()["render_size"];
+    const std::string wh = std::to_string(size[0].get<int>()) + "x" + std::to_string(size[1].get<int>());
+    fs::remove_all(handout);
+    auto h = shadowlab::test::run("lesson backprojection --headless --size " + wh + " --out " + handout);
+    ASSERT_EQ(h.code, 0) << h.output;
+    std::ifstream lessonJson(handout + "/lesson.json");
+    ASSERT_TRUE(lessonJson);
+    const nlohmann::json lesson = nlohmann::json::parse(lessonJson);
+    double headless = -1.0;
+    for (const auto& step : lesson["steps"])
+        if (step.contains("task") && step["task"].contains("answer")) headless = step["task"]["answer"]["values"][0].get<double>();
+    ASSERT_GE(headless, 0.0) << lesson.dump().substr(0, 400);
+    std::printf("backprojection step 3 at %s: window %.5f, headless %.5f\n", wh.c_str(), window, headless);
+    EXPECT_NEAR(window, headless, 1e-4 + 5e-5);  // the window prints 4 significant digits
 }
 
 TEST(WindowLesson, BadLessonIsRefusedWithFileAndLineBeforeTheWindowOpens) {
