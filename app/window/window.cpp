@@ -315,6 +315,7 @@ void Window::pickPixel(glm::ivec2 pixel) {
     glm::ivec2 size = renderSize();
     pixel = glm::clamp(pixel, glm::ivec2(0), size - 1);
     state_.pickedPixel = pixel;  // views re-render for it (no rendered state changes: no touch())
+    pickSize_ = size;
     setStatus("picked pixel " + std::to_string(pixel.x) + "," + std::to_string(pixel.y));
 }
 
@@ -394,6 +395,13 @@ void Window::renderViews() {
     int factor = std::clamp(int(std::ceil(std::sqrt(estimate / 15.0))), 1, std::max(1, state_.reduceFactor));
     bool reduce = state_.reduceWhileDragging && interacting() && factor > 1 && pendingShots_.empty();
     glm::ivec2 size = reduce ? glm::max(glm::ivec2(1), full / factor) : full;
+    // The layout changed the technique view's size (a panel, the views, presentation): the picked
+    // pixel stays on the same point of the image.
+    if (state_.pickedPixel && pickSize_ != full && pickSize_.x > 0 && pickSize_.y > 0) {
+        const glm::vec2 f = (glm::vec2(*state_.pickedPixel) + 0.5f) / glm::vec2(pickSize_);
+        state_.pickedPixel = glm::clamp(glm::ivec2(f * glm::vec2(full)), glm::ivec2(0), full - 1);
+        pickSize_ = full;
+    }
     if (renderer_->width() != size.x || renderer_->height() != size.y) renderer_->resize(size.x, size.y);
     reduced_ = reduce;
     if (state_.playing) {
