@@ -94,7 +94,10 @@ WindowLayout computeWindowLayout(const LayoutInput& in) {
     // The left column: the control panel over the HUD (normal mode).
     float left = 0.0f;
     float techniqueTop = top;
-    if (!in.present && (in.panel || in.hud)) {
+    // With the panel hidden (Tab) the HUD leaves the column: it sits at the left of the bottom row,
+    // beside the views, and the technique view takes the whole width above.
+    const bool hudInRow = !in.present && !in.panel && in.hud;
+    if (!in.present && in.panel) {
         const float w = std::round(std::min(std::max(340.0f * s, 200.0f), 0.24f * W));
         const float hudH = in.hud ? std::round(std::min(10.0f * line + 12.0f * s, 0.4f * (bottom - top))) : 0.0f;
         if (in.hud) out.hud = {0.0f, bottom - hudH, w, hudH};
@@ -116,12 +119,19 @@ WindowLayout computeWindowLayout(const LayoutInput& in) {
 
     // The views strip under the technique view, at most 36% of the height (the view keeps more).
     float techniqueBottom = bottom;
+    float rowLeft = left;
+    if (hudInRow) {
+        const float w = std::round(std::min(std::max(340.0f * s, 200.0f), 0.24f * W));
+        const float hudH = std::round(std::min(10.0f * line + 12.0f * s, 0.3f * (bottom - top)));
+        out.hud = {0.0f, bottom - hudH, w, hudH};
+        rowLeft = w + gap;
+    }
     if (!in.cellAspects.empty()) {
-        const float width = right - left;
+        const float width = right - rowLeft;
         const float maxHeight = std::min(0.36f * H, std::max(0.0f, techniqueBottom - techniqueTop - 0.3f * H));
         Strip strip = layoutStrip(in.cellAspects, width, maxHeight, gap, std::round(2.0f * line + 6.0f * s));
         if (!strip.cells.empty()) {
-            out.strip = {left, techniqueBottom - strip.height, width, strip.height};
+            out.strip = {rowLeft, techniqueBottom - strip.height, width, strip.height};
             out.stripRows = strip.rows;
             for (LayoutRect c : strip.cells) {
                 c.x += out.strip.x;
@@ -132,6 +142,8 @@ WindowLayout computeWindowLayout(const LayoutInput& in) {
         }
         out.cells.resize(in.cellAspects.size());  // a view that does not fit gets an empty cell
     }
+    // The bottom row is as tall as the taller of the HUD and the strip.
+    if (hudInRow) techniqueBottom = std::min(techniqueBottom, out.hud.y - gap);
     out.technique = {left, techniqueTop, std::max(0.0f, right - left), std::max(0.0f, techniqueBottom - techniqueTop)};
     return out;
 }

@@ -22,6 +22,7 @@ struct Config {
     bool lesson, present;
     std::vector<float> cells;
     float minTechnique;  // fraction of the window's area
+    bool panel = true;
 };
 
 TEST(WindowLayout, NothingOverlapsAndTheTechniqueViewKeepsItsShare) {
@@ -33,6 +34,8 @@ TEST(WindowLayout, NothingOverlapsAndTheTechniqueViewKeepsItsShare) {
         {"two views", false, false, {4.0f / 3.0f, 1.0f}, 0.25f},
         {"a lesson, four views and the chart", true, false, {4.0f / 3.0f, 4.0f / 3.0f, 2.0f, 1.0f, 1.6f}, 0.20f},
         {"presentation, a lesson", true, true, {}, 0.40f},
+        {"panel hidden, two views", false, false, {4.0f / 3.0f, 1.0f}, 0.40f, false},
+        {"panel hidden, nothing open", false, false, {}, 0.55f, false},
         {"presentation, a lesson and two views", true, true, {4.0f / 3.0f, 4.0f / 3.0f}, 0.25f},
     };
     for (const glm::vec2 size : sizes)
@@ -43,6 +46,7 @@ TEST(WindowLayout, NothingOverlapsAndTheTechniqueViewKeepsItsShare) {
                 in.uiScale = c.present ? presentationUiScale(size.y) : scale;
                 in.lesson = c.lesson;
                 in.present = c.present;
+                in.panel = c.panel;
                 in.cellAspects = c.cells;
                 const WindowLayout layout = computeWindowLayout(in);
                 SCOPED_TRACE(std::string(c.name) + " at " + std::to_string(int(size.x)) + "x" + std::to_string(int(size.y)) +
