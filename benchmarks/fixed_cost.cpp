@@ -14,6 +14,7 @@
 #include "gl/context.h"
 #include "graph/renderer.h"
 #include "scene/scene.h"
+#include "spread.h"
 
 using namespace shadowlab;
 
@@ -112,5 +113,11 @@ int main(int argc, char** argv) {
     std::printf("  combine+shade before %.2fx -> after %.2fx trivial (%.1fx less)\n",
                 (median(tOldCombine) + median(tOldShade)) / trivialMs, median(tNewShade) / trivialMs,
                 (median(tOldCombine) + median(tOldShade)) / median(tNewShade));
+    // The spread over the rounds: each round's own before / after ratio.
+    std::vector<double> ratios;
+    for (size_t i = 0; i < tNewShade.size(); ++i) ratios.push_back((tOldCombine[i] + tOldShade[i]) / tNewShade[i]);
+    const bench::Spread spread = bench::spreadOf(ratios);
+    std::printf("  per round: combine+shade before / after %.1fx median, %.1fx-%.1fx over %zu rounds\n", spread.median,
+                spread.lowest, spread.highest, ratios.size());
     return 0;
 }
