@@ -76,7 +76,7 @@ void RendererLessonHost::showView(const std::string& view, bool shown) {
         views_.erase(view);
 }
 
-void RendererLessonHost::pickPixel(std::optional<glm::vec2> pixel) { pick_ = pixel; }
+void RendererLessonHost::pickPixel(const std::optional<LessonPick>& pick) { pick_ = pick; }
 
 void RendererLessonHost::setSplit(const std::string& against) {
     split_ = against;
@@ -89,9 +89,15 @@ void RendererLessonHost::setSplit(const std::string& against) {
 
 std::optional<glm::ivec2> RendererLessonHost::pickedPixel() const {
     if (!pick_) return std::nullopt;
-    int x = std::clamp(int(std::floor(pick_->x * width_)), 0, width_ - 1);
-    int y = std::clamp(int(std::floor(pick_->y * height_)), 0, height_ - 1);
-    return glm::ivec2(x, y);
+    auto p = pickPixelAt(*pick_, camera_, width_, height_);
+    if (!p)
+    {
+        char what[200];
+        std::snprintf(what, sizeof what, ": pick at %g %g %g is off-screen at %dx%d (behind the camera or outside the image)",
+                      pick_->point.x, pick_->point.y, pick_->point.z, width_, height_);
+        throw InputError(pick_->where.str() + what);
+    }
+    return p;
 }
 
 void RendererLessonHost::render(Renderer& renderer, const std::set<std::string>& requested) {
@@ -144,6 +150,29 @@ std::string stepFile(size_t step, const std::string& suffix) {
     return buf;
 }
 
+// A world pick must show its point: the surface under its pixel is within a few pixel footprints of
+// it (4: the point may sit on a pixel's edge, on a surface seen at a slant), else another surface
+// is in front of it, or it lies on the background. A lesson error naming the pick's line and size.
+void checkPickVisible(RendererLessonHost& host, glm::ivec2 pixel) {
+    const LessonPick& pick = *host.pick();
+    if (!pick.world) return;
+    const Image positions = host.technique().positions();
+    const glm::vec3 shown(positions.at(pixel.x, pixel.y, 0), positions.at(pixel.x, pixel.y, 1),
+                          positions.at(pixel.x, pixel.y, 2));
+    const Camera& camera = host.camera();
+    const float distance = glm::length(pick.point - camera.position);
+    const float footprint = 2.0f * distance * std::tan(glm::radians(camera.fovYDegrees) * 0.5f) / float(host.height());
+    const float off = glm::length(shown - pick.point);
+    if (!(off <= 4.0f * footprint)) {
+        char what[256];
+        std::snprintf(what, sizeof what,
+                      ": pick at %g %g %g is hidden at %dx%d: its pixel (%d, %d) shows %s %.3g away (%.1f pixel footprints)",
+                      pick.point.x, pick.point.y, pick.point.z, host.width(), host.height(), pixel.x, pixel.y,
+                      std::isfinite(off) ? "a surface" : "the background", double(off), double(off / footprint));
+        throw InputError(pick.where.str() + what);
+    }
+}
+
 nlohmann::json outcomeJson(const TaskCondition::Outcome& o) {
     nlohmann::json values = nlohmann::json::array();
     for (double v : o.values) values.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
@@ -180,12 +209,17 @@ nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& dir
             js["images"].push_back(file);
         }
         if (auto p = host.pickedPixel()) {
+            checkPickVisible(host, *p);
             float v = host.technique().visibility().at(p->x, p->y);
             float r = host.reference().visibility().at(p->x, p->y);
             char line[160];
             std::snprintf(line, sizeof line, "picked pixel (%d, %d): visibility %.3f, reference %.3f", p->x, p->y, v, r);
             h.notes.push_back(line);
-            js["pick"] = {{"pixel", {p->x, p->y}}, {"visibility", v}, {"reference", r}};
+            const Image positions = host.technique().positions();
+            js["pick"] = {{"pixel", {p->x, p->y}},
+                          {"point", {positions.at(p->x, p->y, 0), positions.at(p->x, p->y, 1), positions.at(p->x, p->y, 2)}},
+                          {"visibility", v},
+                          {"reference", r}};
         }
         if (step.animate) {
             const LessonAnimation& a = *step.animate;

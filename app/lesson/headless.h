@@ -28,7 +28,7 @@ public:
     void setReference(const std::string& technique,
                       const std::vector<std::pair<std::string, std::string>>& params) override;
     void showView(const std::string& view, bool shown) override;
-    void pickPixel(std::optional<glm::vec2> pixel) override;
+    void pickPixel(const std::optional<LessonPick>& pick) override;
     void setSplit(const std::string& against) override;
     TaskBuffers readTaskBuffers(bool withReference) override;
 
@@ -39,7 +39,11 @@ public:
     const Scene& scene() const { return *scene_; }
     const std::set<std::string>& views() const { return views_; }
     const std::string& split() const { return split_; }
-    std::optional<glm::ivec2> pickedPixel() const;  // in pixels of the image
+    // In pixels of the image. A world point off-screen at this size is a lesson error (InputError
+    // naming the pick's file and line and the size).
+    std::optional<glm::ivec2> pickedPixel() const;
+    const std::optional<LessonPick>& pick() const { return pick_; }
+    const Camera& camera() const { return camera_; }
     int width() const { return width_; }
     int height() const { return height_; }
 
@@ -59,7 +63,7 @@ private:
     Camera camera_;
     Slot main_, reference_, split_slot_;
     std::set<std::string> views_;
-    std::optional<glm::vec2> pick_;
+    std::optional<LessonPick> pick_;
     std::string split_;
 };
 

@@ -32,8 +32,8 @@ public:
                               const std::vector<std::pair<std::string, std::string>>& params) = 0;
     // A view beside the technique view (lessonViews()).
     virtual void showView(const std::string& view, bool shown) = 0;
-    // The picked pixel, as fractions of the image from the top left; nullopt: none.
-    virtual void pickPixel(std::optional<glm::vec2> pixel) = 0;
+    // The picked pixel (a world point or a fraction of the image: LessonPick); nullopt: none.
+    virtual void pickPixel(const std::optional<LessonPick>& pick) = 0;
     // Left half the technique, right half `against` ("reference" or a technique id); "" = no split.
     virtual void setSplit(const std::string& against) = 0;
     // Renders what the task reads and returns it (visibility, reference when `withReference`, ids).

@@ -248,6 +248,21 @@ static bool sameLight(const Light& a, const Light& b) {
            a.size == b.size && a.color == b.color && a.intensity == b.intensity && a.castsShadows == b.castsShadows;
 }
 
+std::optional<glm::ivec2> pickPixelAt(const LessonPick& pick, const Camera& camera, int width, int height) {
+    if (width <= 0 || height <= 0) return std::nullopt;
+    if (!pick.world) {
+        return glm::ivec2(std::clamp(int(std::floor(pick.fraction.x * float(width))), 0, width - 1),
+                          std::clamp(int(std::floor(pick.fraction.y * float(height))), 0, height - 1));
+    }
+    const glm::vec4 view = camera.viewFromWorld() * glm::vec4(pick.point, 1.0f);
+    if (view.z >= 0.0f) return std::nullopt;  // behind the camera (view space looks down -z)
+    const glm::vec4 clip = camera.clipFromView(float(width) / float(height)) * view;
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    const glm::vec2 p((ndc.x * 0.5f + 0.5f) * float(width), (0.5f - ndc.y * 0.5f) * float(height));
+    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < float(width) && p.y < float(height))) return std::nullopt;
+    return glm::ivec2(p);
+}
+
 bool LessonState::operator==(const LessonState& o) const {
     if (lights.size() != o.lights.size()) return false;
     for (size_t i = 0; i < lights.size(); ++i)
@@ -271,7 +286,10 @@ std::string LessonState::describe() const {
       << formatValue(camera.fovYDegrees);
     s << "\nviews";
     for (const std::string& v : views) s << " " << v;
-    if (pick) s << "\npick " << formatValue(pick->x) << " " << formatValue(pick->y);
+    if (pick && pick->world)
+        s << "\npick at " << v3(pick->point);
+    else if (pick)
+        s << "\npick fraction " << formatValue(pick->fraction.x) << " " << formatValue(pick->fraction.y);
     if (!split.empty()) s << "\nsplit " << split;
     s << "\nreference " << referenceTechnique;
     for (const auto& [k, v] : referenceParamTexts()) s << " " << k << "=" << v;
@@ -321,16 +339,31 @@ void applyLessonCommand(LessonState& state, const LessonCommand& c) {
                 state.views.erase(v);
         }
     } else if (c.name == "pick") {
-        expectArgs(c, 1, 2, "pick U V (fractions of the image from the top left) or 'pick none'");
-        if (c.args.size() == 1) {
-            if (c.args[0] != "none") throw InputError(at + "pick: expected 'pick U V' or 'pick none', got '" + c.args[0] + "'");
+        const char* usage = "'pick at X Y Z' (a world point), 'pick fraction U V' (of the image, from the top left) or "
+                            "'pick none'";
+        if (c.args.size() == 1 && c.args[0] == "none") {
             state.pick.reset();
-        } else {
-            double u = parseNumber(c.args[0], c.where, "pick U"), v = parseNumber(c.args[1], c.where, "pick V");
+        } else if (c.args.size() == 4 && c.args[0] == "at") {
+            LessonPick p;
+            p.world = true;
+            for (int k = 0; k < 3; ++k) p.point[k] = float(parseNumber(c.args[size_t(k) + 1], c.where, "pick at X Y Z"));
+            p.where = c.where;
+            state.pick = p;
+        } else if (c.args.size() == 3 && c.args[0] == "fraction") {
+            double u = parseNumber(c.args[1], c.where, "pick fraction U"), v = parseNumber(c.args[2], c.where, "pick fraction V");
             if (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0)
-                throw InputError(at + "pick: expected U and V in [0, 1] (fractions of the image from the top left), got " +
-                                 c.args[0] + " " + c.args[1]);
-            state.pick = glm::vec2(float(u), float(v));
+                throw InputError(at + "pick fraction: expected U and V in [0, 1] (fractions of the image from the top left), got " +
+                                 c.args[1] + " " + c.args[2]);
+            LessonPick p;
+            p.world = false;
+            p.fraction = glm::vec2(float(u), float(v));
+            p.where = c.where;
+            state.pick = p;
+        } else {
+            std::string got;
+            for (const std::string& a : c.args) got += (got.empty() ? "" : " ") + a;
+            throw InputError(at + "pick: expected " + usage + ", got 'pick " + got + "' (a bare fraction lands elsewhere "
+                             "at another size or aspect)");
         }
     } else if (c.name == "split") {
         expectArgs(c, 1, 1, "split reference|TECHNIQUE|off");

@@ -30,6 +30,24 @@ struct LessonCommand {
     SourceLocation where;
 };
 
+// A step's picked pixel: a world point, projected through the step's camera at whatever size is
+// rendered (`pick at X Y Z`), or, where the lesson says so explicitly, a fraction of the image from
+// the top left (`pick fraction U V`). `where` is the command's file and line, for a pick that is
+// hidden or off-screen at some size.
+struct LessonPick {
+    bool world = true;
+    glm::vec3 point{0.0f};
+    glm::vec2 fraction{0.0f};
+    SourceLocation where;
+    bool operator==(const LessonPick& o) const {
+        return world == o.world && (world ? point == o.point : fraction == o.fraction);
+    }
+};
+
+// The pixel (x right, y down from the top) a pick lands on in a width x height image seen through
+// `camera`; nullopt when a world point is behind the camera or outside the image.
+std::optional<glm::ivec2> pickPixelAt(const LessonPick& pick, const Camera& camera, int width, int height);
+
 // Everything a step shows: applied in full to a host, so nothing the user changed survives.
 struct LessonState {
     std::string scene;                 // a scene name (assets/scenes/<name>.json)
@@ -38,7 +56,7 @@ struct LessonState {
     std::vector<Light> lights;         // every light of the scene, after `light` commands
     Camera camera;
     std::set<std::string> views;       // views shown beside the technique view (lessonViews())
-    std::optional<glm::vec2> pick;     // the picked pixel as fractions of the image, from the top left
+    std::optional<LessonPick> pick;    // the picked pixel (LessonPick)
     std::string split;                 // "" (no split), "reference", or a technique id
     std::string referenceTechnique = "reference";  // what "reference" means in tasks, error and split
     ParamValues referenceParams;

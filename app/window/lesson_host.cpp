@@ -80,13 +80,17 @@ public:
         if (shown || (name == "shadow-map" && texelsShown_)) w_.openView(name);
         else w_.closeView(name);
     }
-    void pickPixel(std::optional<glm::vec2> pixel) override {
+    void pickPixel(const std::optional<LessonPick>& pick) override {
+        // A world point is projected through the step's camera at the technique view's size (the
+        // camera is applied before the pick, applyLessonState); off-screen here: no pick, said.
+        std::optional<glm::ivec2> pixel;
+        if (pick) pixel = pickPixelAt(*pick, w_.state_.camera, w_.renderSize().x, w_.renderSize().y);
         if (!pixel) {
             w_.state_.pickedPixel.reset();
+            if (pick) w_.setStatus(pick->where.str() + ": the lesson's pick is off-screen at this size", true);
             return;
         }
-        glm::ivec2 size = w_.renderSize();
-        w_.pickPixel(glm::ivec2(int(std::floor(pixel->x * float(size.x))), int(std::floor(pixel->y * float(size.y)))));
+        w_.pickPixel(*pixel);
     }
     void setSplit(const std::string& against) override {
         if (against.empty()) w_.setCompare(referenceShown_ ? WindowState::Compare::Reference : WindowState::Compare::None);

@@ -70,6 +70,10 @@ TEST(LessonFormat, OutOfRangeValueNamesFileAndLine) {
     expectRefused(withCommands("set pcf_kernel 4"), "lessons/bad.md:11: ", "odd");  // the descriptor's constraint
     expectRefused(withCommands("light size -1"), "lessons/bad.md:11: ", "light size");
     expectRefused(withCommands("pick 1.5 0.5"), "lessons/bad.md:11: ", "pick");
+    expectRefused(withCommands("pick fraction 1.5 0.5"), "lessons/bad.md:11: ", "pick fraction: expected U and V in [0, 1]");
+    // A bare fraction lands elsewhere at another size: a world point, or a fraction said explicitly.
+    expectRefused(withCommands("pick 0.5 0.5"), "lessons/bad.md:11: ", "'pick at X Y Z'");
+    expectRefused(withCommands("pick at 1 2"), "lessons/bad.md:11: ", "'pick at X Y Z'");
 }
 
 TEST(LessonFormat, BrokenSyntaxNamesFileAndLine) {
@@ -218,7 +222,7 @@ public:
     std::vector<Light> lights;
     Camera camera;
     std::set<std::string> views;
-    std::optional<glm::vec2> pick;
+    std::optional<LessonPick> pick;
     int sceneLoads = 0, taskReads = 0;
 
     void setScene(const std::string& name) override {
@@ -248,7 +252,7 @@ public:
         if (shown) views.insert(view);
         else views.erase(view);
     }
-    void pickPixel(std::optional<glm::vec2> p) override { pick = p; }
+    void pickPixel(const std::optional<LessonPick>& p) override { pick = p; }
     void setSplit(const std::string& against) override { split = against; }
     // The reference's minimum is 0 while the light is narrower than 2 (the square-occluder umbra).
     TaskBuffers readTaskBuffers(bool) override {
@@ -276,7 +280,7 @@ public:
 const std::string kTaskLesson =
     "# Umbra\n\n```shadowlab\nscene square-occluder\ntechnique hard\n```\n\n"
     "## One\n\n```shadowlab\nlight size 0\nshow visibility\n```\n\nHard.\n\n"
-    "## Two\n\n```shadowlab\ntechnique pcf\nset pcf_kernel 7\nlight size 1\nsplit reference\npick 0.5 0.5\n"
+    "## Two\n\n```shadowlab\ntechnique pcf\nset pcf_kernel 7\nlight size 1\nsplit reference\npick at 0 0 0.5\n"
     "animate light.size 0.5 1.5 2\n```\n\nSoft.\n\n"
     "## Three\n\n```shadowlab\ntry Make the umbra vanish.\ncheck min(reference) >= 0.01\nanswer light size 2.5\n"
     "camera position 0 8 8 target 0 0 0\n```\n\nTask.\n";
@@ -300,7 +304,10 @@ TEST(LessonPlayer, WalksForwardAndBackRestoringEveryStepWhateverTheUserChanged) 
         c.fovYDegrees = 70.0f;
         host.setCamera(c);
         host.showView("error", true);
-        host.pickPixel(glm::vec2(0.1f, 0.1f));
+        LessonPick elsewhere;
+        elsewhere.world = false;
+        elsewhere.fraction = glm::vec2(0.1f, 0.1f);
+        host.pickPixel(elsewhere);
         host.setSplit("hard");
     };
     for (size_t k = 1; k < player.stepCount(); ++k) {
@@ -536,3 +543,58 @@ TEST(LessonList, ListJsonNamesLessonsWithTitlesAndStepCounts) {
         EXPECT_FALSE(l.contains("error")) << l;
     }
 }
+
+namespace shadowlab {
+namespace {
+
+// Picks are world points projected through the step's camera (issue 18): shadow-mapping's step 1
+// pick, meant to be in the box's shadow, is there at the handout's 320x320 and at the window's
+// 1024x768 (v < 0.05), on the same world point within one pixel's footprint at the larger size.
+TEST(LessonPick, WorldPicksLandOnTheSamePointAtEverySize) {
+    std::vector<glm::vec3> points;
+    for (const char* size : {"320x320", "1024x768"}) {
+        const std::string out = test::testPath("lesson-pick", std::string("shadow-mapping-") + size);
+        fs::remove_all(out);
+        test::Result r = test::run("lesson shadow-mapping --headless --size " + std::string(size) + " --out " + out);
+        ASSERT_EQ(r.code, 0) << r.output;
+        std::ifstream in(out + "/lesson.json");
+        const nlohmann::json j = nlohmann::json::parse(in);
+        const nlohmann::json& step = j["steps"][0];
+        ASSERT_TRUE(step.contains("pick")) << size;
+        EXPECT_LT(step["pick"]["visibility"].get<double>(), 0.05) << size << ": the pick is not in the box's shadow";
+        const auto& p = step["pick"]["point"];
+        points.push_back({p[0].get<float>(), p[1].get<float>(), p[2].get<float>()});
+    }
+    // One pixel's footprint at 1024x768 where the pick lies: 2 d tan(fov / 2) / 768.
+    const Lesson lesson = loadLesson("shadow-mapping");
+    const Camera& camera = lesson.steps[0].state.camera;
+    const float footprint = 2.0f * glm::length(points[1] - camera.position) *
+                            std::tan(glm::radians(camera.fovYDegrees) * 0.5f) / 768.0f;
+    EXPECT_LT(glm::length(points[0] - points[1]), footprint * 4.0f)  // 320 px: its own pixel is 2.4x wider
+        << "320x320 shows " << glm::length(points[0] - points[1]) << " away from 1024x768, footprint " << footprint;
+}
+
+// A world pick behind another surface, or off the image, at some size is a lesson error naming the
+// pick's file and line and the size.
+TEST(LessonPick, HiddenOrOffScreenPickIsALessonErrorWithLineAndSize) {
+    const std::string dir = test::testPath("lesson-pick", "bad");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string head = "# Bad pick\n\n```shadowlab\nscene square-occluder\ntechnique hard\n```\n\n## One\n\n```shadowlab\n";
+    // The floor behind the plate, on the camera's ray through the plate's centre: the plate hides it.
+    std::ofstream(dir + "/hidden.md") << head << "pick at 0 0 -3.7\n```\n\nText.\n";
+    test::Result hidden = test::run("lesson " + dir + "/hidden.md --headless --size 160x160 --out " + dir + "/out-h");
+    EXPECT_EQ(hidden.code, 2) << hidden.output;
+    EXPECT_NE(hidden.output.find("hidden.md:11"), std::string::npos) << hidden.output;
+    EXPECT_NE(hidden.output.find("is hidden at 160x160"), std::string::npos) << hidden.output;
+    EXPECT_FALSE(fs::exists(dir + "/out-h/index.html")) << "nothing half-written";
+    // Far to the side: outside the image.
+    std::ofstream(dir + "/off.md") << head << "pick at 40 0 0\n```\n\nText.\n";
+    test::Result off = test::run("lesson " + dir + "/off.md --headless --size 160x160 --out " + dir + "/out-o");
+    EXPECT_EQ(off.code, 2) << off.output;
+    EXPECT_NE(off.output.find("off.md:11"), std::string::npos) << off.output;
+    EXPECT_NE(off.output.find("off-screen at 160x160"), std::string::npos) << off.output;
+}
+
+}  // namespace
+}  // namespace shadowlab
