@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <unistd.h>
 
 #include "cli/cli.h"
 #include "error.h"
@@ -35,18 +36,29 @@ nlohmann::json describeLessons() {
 }
 
 int commandLesson(const std::vector<std::string>& args) {
-    Options opts("lesson", args, 1, {"--out", "--size", "--gl"}, {"--headless", "--check"});
+    Options opts("lesson", args, 1,
+                 {"--out", "--size", "--gl", "--sizes", "--screenshot", "--frames", "--script", "--report", "--ui-scale"},
+                 {"--headless", "--check", "--present"});
     if (opts.positional().size() != 1)
         throw InputError("lesson: expected one lesson name or .md path, e.g. 'shadowlab lesson intro --headless --out DIR'");
     const bool headless = opts.has("--headless");
     if (opts.has("--out") && !headless) throw InputError("lesson: --out is for --headless");
+    if (opts.has("--sizes") && !opts.has("--check")) throw InputError("lesson: --sizes is for --check");
+    if (headless || opts.has("--check"))
+        for (const char* windowOnly : {"--screenshot", "--frames", "--script", "--report", "--ui-scale", "--present"})
+            if (opts.has(windowOnly))
+                throw InputError(std::string("lesson: ") + windowOnly + " is for the window (`shadowlab lesson L` without "
+                                 "--headless or --check)");
     int width = 320, height = 320;
     if (opts.has("--size")) parseSize(opts.get("--size"), width, height);
     std::string out = opts.get("--out");
     if (headless) {
         if (out.empty()) throw InputError("lesson: --headless needs --out DIR (the folder of the handout)");
         if (fs::exists(out) && !fs::is_directory(out)) throw InputError("lesson: --out: '" + out + "' is not a folder");
-        fs::path parent = fs::path(out).parent_path();
+        // "handout/" names the folder handout: its parent is the one that must exist.
+        fs::path path = fs::path(out);
+        while (path.has_filename() == false && path.has_parent_path() && path != path.root_path()) path = path.parent_path();
+        fs::path parent = path.parent_path();
         if (!parent.empty() && !fs::is_directory(parent))
             throw InputError("lesson: --out: folder '" + parent.string() + "' does not exist");
     }
@@ -56,12 +68,47 @@ int commandLesson(const std::vector<std::string>& args) {
     if (opts.has("--check") && !headless) {
         std::printf("%s: %s: %zu steps, %zu tasks, valid\n", lesson.file.c_str(), lesson.title.c_str(),
                     lesson.steps.size(), tasks);
+        if (!opts.has("--sizes")) return 0;
+        // Checked where it is shown: every step rendered at each size, every task failing in its
+        // own state and passing with its answer, every pick on its point (a lesson error names the
+        // line and the size). Nothing is kept.
+        std::vector<std::pair<int, int>> sizes;
+        const std::string list = opts.get("--sizes");
+        size_t start = 0;
+        while (start <= list.size()) {
+            const size_t comma = list.find(',', start);
+            const std::string one = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+            int w = 0, h = 0;
+            parseSize(one, w, h);
+            sizes.push_back({w, h});
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+        }
+        auto context = createHeadlessContext(parseBackend(opts.get("--gl", "egl")));
+        for (const auto& [w, h] : sizes) {
+            const fs::path scratch = fs::temp_directory_path() / ("shadowlab-lesson-check-" + std::to_string(::getpid()));
+            fs::remove_all(scratch);
+            fs::create_directories(scratch);
+            try {
+                renderLessonHeadless(lesson, scratch.string(), w, h);
+            } catch (const InputError& e) {
+                fs::remove_all(scratch);
+                throw InputError(std::string(e.what()) + " (at " + std::to_string(w) + "x" + std::to_string(h) + ")");
+            }
+            fs::remove_all(scratch);
+            std::printf("  %dx%d: %zu steps rendered, %zu task(s) failing in their own state and passing with their "
+                        "answer, picks on their points\n",
+                        w, h, lesson.steps.size(), tasks);
+        }
         return 0;
     }
     if (!headless) {
-        // The player in the window; without a display, runWindow says so (exit 2) and names --headless.
+        // The player in the window (`shadowlab lesson L` is `shadowlab window --lesson L`, with the
+        // window's options); without a display, runWindow says so (exit 2) and names --headless.
         std::vector<std::string> windowArgs = {"--lesson", opts.positional()[0]};
-        if (opts.has("--size")) windowArgs.insert(windowArgs.end(), {"--size", opts.get("--size")});
+        for (const char* flag : {"--size", "--screenshot", "--frames", "--script", "--report", "--ui-scale"})
+            if (opts.has(flag)) windowArgs.insert(windowArgs.end(), {flag, opts.get(flag)});
+        if (opts.has("--present")) windowArgs.push_back("--present");
         return runWindow(windowArgs);
     }
     auto context = createHeadlessContext(parseBackend(opts.get("--gl", "egl")));

@@ -598,3 +598,34 @@ TEST(LessonPick, HiddenOrOffScreenPickIsALessonErrorWithLineAndSize) {
 
 }  // namespace
 }  // namespace shadowlab
+
+namespace shadowlab {
+namespace {
+
+// Every lesson checked where it is shown (issue 18): at the handout's 320x320 and the window's
+// 1024x768, every step renders, every task fails in its own state and passes with its answer, every
+// pick lands on its point (`lesson L --check --sizes`).
+void checkAtTwoSizes(const std::string& id) {
+    test::Result r = test::run("lesson " + id + " --check --sizes 320x320,1024x768");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("320x320: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("1024x768: "), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace shadowlab
+
+TEST(LessonCheck, IntroAt320And1024) { checkAtTwoSizes("intro"); }
+TEST(LessonCheck, ShadowMappingAt320And1024) { checkAtTwoSizes("shadow-mapping"); }
+TEST(LessonCheck, PcssSssmAt320And1024) { checkAtTwoSizes("pcss-sssm"); }
+TEST(LessonCheck, BackprojectionAt320And1024) { checkAtTwoSizes("backprojection"); }
+TEST(LessonCheck, SizesAreForCheckAndTrailingSlashIsAFolder) {
+    EXPECT_EQ(test::run("lesson intro --sizes 320x320").code, 2);
+    EXPECT_EQ(test::run("lesson intro --check --sizes 320x").code, 2);
+    EXPECT_EQ(test::run("lesson intro --headless --screenshot x.png --out x").code, 2);
+    const std::string out = test::testPath("lesson-check", "handout") + "/";
+    fs::remove_all(out);
+    test::Result r = test::run("lesson intro --headless --size 96x96 --out " + out);
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(out + "index.html"));
+}
