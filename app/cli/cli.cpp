@@ -182,9 +182,17 @@ int commandList(const std::vector<std::string>& args) {
         std::cout << "  " << d->id << "  " << d->name << "\n    " << d->citation << "\n    " << d->summary << "\n";
         for (const ParamDesc& p : d->params) {
             char line[512];
-            std::snprintf(line, sizeof line, "      %-14s %-4s %-5s default %-8g range [%g, %g] %s", p.key.c_str(),
-                          p.symbol.c_str(), paramTypeName(p.type), p.defaultValue, p.minValue, p.maxValue,
-                          p.unit.c_str());
+            if (p.type == ParamDesc::Type::Enum && !p.choices.empty()) {  // by name: the values a --set takes
+                std::string choices;
+                for (const std::string& c : p.choices) choices += (choices.empty() ? "" : " | ") + c;
+                const size_t d = std::min(p.choices.size() - 1, size_t(std::max(0.0, p.defaultValue)));
+                std::snprintf(line, sizeof line, "      %-14s %-4s %-5s default %-8s choices %s", p.key.c_str(),
+                              p.symbol.c_str(), paramTypeName(p.type), p.choices[d].c_str(), choices.c_str());
+            } else {
+                std::snprintf(line, sizeof line, "      %-14s %-4s %-5s default %-8g range [%g, %g] %s", p.key.c_str(),
+                              p.symbol.c_str(), paramTypeName(p.type), p.defaultValue, p.minValue, p.maxValue,
+                              p.unit.c_str());
+            }
             std::cout << line << "\n        " << p.doc << "\n";
         }
     }

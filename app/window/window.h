@@ -293,8 +293,5 @@ std::deque<ScriptCommand> parseScript(const std::string& path);
 // what it did and where. Returns the exit code (0 when the render worked).
 int runHeadlessFallback(const std::string& reason);
 
-// A scene around one glTF file: the mesh on a ground quad, a square light above it, the camera
-// looking at it from the front.
-Scene makeGltfScene(const std::string& path);
 
 }  // namespace shadowlab

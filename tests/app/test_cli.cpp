@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "image/image.h"
+#include "scene/scene.h"
 #include "support/cli_run.h"
 
 namespace fs = std::filesystem;
@@ -276,6 +277,32 @@ TEST(Window, ScreenshotUnderXvfb) {
     ASSERT_EQ(WEXITSTATUS(status), 0);
     ASSERT_TRUE(fs::exists(shot));
     EXPECT_GT(fs::file_size(shot), 1000u);  // a uniform image compresses to a few hundred bytes
+}
+
+}  // namespace
+
+namespace {
+
+// Papercuts of issue 18: every command opens a glTF file as the window does (a scene around the
+// model), and `list` names an enum's choices.
+TEST(CliPapercuts, RenderOpensAGltfFileAsTheWindowDoes) {
+    const std::string out = shadowlab::test::testPath("cli", "torus.pfm");
+    fs::remove(out);
+    shadowlab::test::Result r =
+        shadowlab::test::run("render --scene " + shadowlab::projectRoot() + "/assets/models/torus.gltf --size 48x48 --visibility " + out);
+    ASSERT_EQ(r.code, 0) << r.output;
+    const shadowlab::Image v = shadowlab::readPFM(out);
+    size_t shadowed = 0;
+    for (float x : v.data) shadowed += x < 0.5f;
+    EXPECT_GT(shadowed, 10u) << "the torus casts a shadow on the ground";
+    EXPECT_EQ(shadowlab::test::run("render --scene missing.gltf --size 16x16").code, 2);
+}
+
+TEST(CliPapercuts, ListNamesEnumChoices) {
+    shadowlab::test::Result r = shadowlab::test::run("list");
+    ASSERT_EQ(r.code, 0);
+    EXPECT_NE(r.output.find("choices regular | poisson"), std::string::npos) << r.output.substr(0, 2000);
+    EXPECT_NE(r.output.find("choices gaussian | mean"), std::string::npos);
 }
 
 }  // namespace

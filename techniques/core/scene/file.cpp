@@ -436,7 +436,50 @@ Scene readScene(const JsonReader& r, const json& root, const std::string& path, 
 
 }  // namespace
 
+Scene sceneAroundGltf(const std::string& path, const SceneLimits& limits) {
+    if (!fs::exists(path)) throw InputError(path + ": no such file");
+    Scene scene;
+    scene.name = fs::path(path).stem().string();
+    scene.path = path;
+    scene.description = "glTF file " + path + " on a ground quad under a square light";
+    Object model;
+    model.name = scene.name;
+    model.source = "gltf:" + path;
+    model.id = 1;
+    model.mesh = loadGltfMesh(path, limits);
+    if (model.mesh.indices.empty()) throw InputError(path + ": the glTF file holds no triangles");
+    Bounds b;
+    for (const glm::vec3& p : model.mesh.positions) b.extend(p);
+    glm::vec3 centre = 0.5f * (b.lo + b.hi);
+    float extent = std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z, 1e-3f});
+    // Scaled to 2 world units, standing on the ground at the origin.
+    float scale = 2.0f / extent;
+    model.worldFromObject = glm::mat4(1.0f);
+    model.worldFromObject[0][0] = model.worldFromObject[1][1] = model.worldFromObject[2][2] = scale;
+    model.worldFromObject[3] = glm::vec4(-scale * centre.x, -scale * b.lo.y, -scale * centre.z, 1.0f);
+    Object ground;
+    ground.name = "ground";
+    ground.source = "quad";
+    ground.id = 0;
+    ground.mesh = makeQuad(8.0f, 8.0f);
+    ground.castsShadows = false;
+    scene.objects = {ground, model};
+    Light light;
+    light.name = "key";
+    light.position = {0.5f, 5.0f, 0.5f};
+    light.size = 1.0f;
+    scene.lights = {light};
+    scene.camera.position = {0.0f, 3.5f, 6.0f};
+    scene.camera.target = {0.0f, 0.8f, 0.0f};
+    return scene;
+}
+
 Scene loadScene(const std::string& nameOrPath, const SceneLimits& limits) {
+    auto endsWith = [&](const char* suffix) {
+        const std::string s(suffix);
+        return nameOrPath.size() >= s.size() && nameOrPath.compare(nameOrPath.size() - s.size(), s.size(), s) == 0;
+    };
+    if (endsWith(".gltf") || endsWith(".glb")) return sceneAroundGltf(nameOrPath, limits);
     const std::string path = resolveScenePath(nameOrPath);
     std::error_code ec;
     const uintmax_t bytes = fs::file_size(path, ec);

@@ -134,8 +134,12 @@ uint64_t estimateComplexTriangles(const ComplexParams& params);
 std::string resolveScenePath(const std::string& nameOrPath);
 // Loads and validates a scene file. Every error is an InputError naming the file and the field
 // and its line (JSON syntax errors: line and column). Scenes over `limits` are refused before their
-// meshes are built.
+// meshes are built. A .gltf or .glb path is a scene around that one model (sceneAroundGltf), so
+// every command opens what the window opens.
 Scene loadScene(const std::string& nameOrPath, const SceneLimits& limits = {});
+// A scene around one glTF file: the mesh scaled to 2 world units on a ground quad, a square light
+// above it, the camera looking at it from the front.
+Scene sceneAroundGltf(const std::string& path, const SceneLimits& limits = {});
 // Names of the scenes in assets/scenes/ (without .json), sorted.
 std::vector<std::string> listScenes();
 // World-space triangles of every object at time t, one OBJ group per object ("o <name>").
