@@ -22,10 +22,19 @@
 
 namespace shadowlab {
 
-// The setting as the chart labels it: the parameters set away from the paper's defaults, or "defaults".
-static std::string settingLabel(const std::map<std::string, std::string>& params) {
+// The setting as the chart labels it: the parameters whose value differs from the paper's default
+// (by the paper's symbol where it has one: "n=9", "alpha=0.5"; enums by name), or "defaults". Read
+// from the values the renderer runs, so a slider moved back to its default reads "defaults" again.
+std::string settingLabel(const TechniqueDesc& desc, const ParamValues& values) {
     std::string label;
-    for (const auto& [key, value] : params) label += (label.empty() ? "" : " ") + key + "=" + value;
+    for (const ParamDesc& p : desc.params) {
+        const double v = values.get(p.key);
+        if (v == p.defaultValue) continue;
+        char text[64];
+        if (p.type == ParamDesc::Type::Enum) std::snprintf(text, sizeof text, "%s", values.getChoice(p.key).c_str());
+        else std::snprintf(text, sizeof text, "%g", v);
+        label += (label.empty() ? "" : " ") + (p.symbol.empty() ? p.key : p.symbol) + "=" + text;
+    }
     return label.empty() ? "defaults" : label;
 }
 
@@ -41,7 +50,8 @@ void Window::recordAccuracyPoint() {
     renderer_->measureCost(costFrame_, 3);
     double shadowMs = renderer_->cost(costFrame_).shadowMs;
     costFrame_ += 3;
-    AccuracyTimePoint point{state_.technique, settingLabel(state_.params), shadowMs, metricsAll_->rmse, true};
+    const LightState& light = *renderer_->lights().at(0);
+    AccuracyTimePoint point{state_.technique, settingLabel(*light.desc, light.params), shadowMs, metricsAll_->rmse, true};
     for (AccuracyTimePoint& p : accuracyPoints_) p.highlight = false;
     auto same = std::find_if(accuracyPoints_.begin(), accuracyPoints_.end(), [&](const AccuracyTimePoint& p) {
         return p.series == point.series && p.label == point.label;

@@ -13,6 +13,7 @@
 #include "image/image.h"
 #include "image/metrics.h"
 #include "support/cli_run.h"
+#include "window/window.h"
 
 namespace {
 
@@ -50,10 +51,29 @@ TEST(WindowAccuracy, EverySettingTriedIsAPointAndTheCurrentOneMatchesTheMetrics)
     EXPECT_EQ(points[0]["technique"], "pcf");
     EXPECT_EQ(points[0]["setting"], "defaults");
     EXPECT_TRUE(points[0]["current"].get<bool>());
-    EXPECT_EQ(points[1]["setting"], "pcf_kernel=9");
+    EXPECT_EQ(points[1]["setting"], "n=9");  // by the paper's symbol (settingLabel)
     EXPECT_EQ(points[2]["technique"], "hard");
     shadowlab::Metrics m = shadowlab::computeMetrics(shadowlab::readPFM(vis), shadowlab::readPFM(ref));
     EXPECT_NEAR(points[0]["rmse"].get<double>(), m.rmse, 1e-9) << "the point is the HUD's RMSE of this state";
+}
+
+}  // namespace
+
+
+namespace {
+
+// The chart labels a point by the parameters that differ from the paper's defaults (issue 18: it
+// said "defaults" for every point): by symbol, enums by name; a value moved back reads "defaults".
+TEST(WindowAccuracy, PointsAreLabelledByWhatDiffersFromTheDefaults) {
+    const shadowlab::TechniqueDesc& sssm = *shadowlab::findTechnique("sssm");
+    shadowlab::ParamValues values(sssm);
+    EXPECT_EQ(shadowlab::settingLabel(sssm, values), "defaults");
+    values.set(sssm, "blocker_kernel", "9", "test");
+    values.set(sssm, "alpha", "0.5", "test");
+    values.set(sssm, "filter", "mean", "test");
+    EXPECT_EQ(shadowlab::settingLabel(sssm, values), "n=9 alpha=0.5 filter=mean");
+    values.set(sssm, "blocker_kernel", "29", "test");  // back to the default
+    EXPECT_EQ(shadowlab::settingLabel(sssm, values), "alpha=0.5 filter=mean");
 }
 
 }  // namespace
