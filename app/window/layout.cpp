@@ -122,7 +122,7 @@ WindowLayout computeWindowLayout(const LayoutInput& in) {
     float rowLeft = left;
     if (hudInRow) {
         const float w = std::round(std::min(std::max(340.0f * s, 200.0f), 0.24f * W));
-        const float hudH = std::round(std::min(10.0f * line + 12.0f * s, 0.3f * (bottom - top)));
+        const float hudH = std::round(std::min(7.0f * line + 12.0f * s, 0.25f * (bottom - top)));
         out.hud = {0.0f, bottom - hudH, w, hudH};
         rowLeft = w + gap;
     }

@@ -532,9 +532,28 @@ void Window::drawOverlay() {
             ImU32 colour = selected ? rgba(255, 220, 60) : rgba(200, 200, 200, 200);
             std::vector<glm::vec3> outline = lightOutline(l);
             for (size_t k = 0; k < outline.size(); ++k) line(outline[k], outline[(k + 1) % outline.size()], colour, 2.0f * s);
-            if (auto c = project(l.position)) {
+            auto c = project(l.position);
+            const bool inView = c && c->x >= view.x && c->y >= view.y && c->x < view.right() && c->y < view.bottom();
+            if (inView) {
                 draw->AddCircleFilled(ImVec2(c->x, c->y), 4.0f * s, colour);
                 draw->AddCircle(ImVec2(c->x, c->y), 7.0f * s, rgba(0, 0, 0, 160), 0, 1.5f * s);
+            } else {
+                // Outside the view (or behind the camera): an arrow at the view's edge points to it.
+                const glm::vec4 v = state_.camera.viewFromWorld() * glm::vec4(l.position, 1.0f);
+                glm::vec2 dir(v.x, -v.y);
+                if (glm::length(dir) < 1e-6f) dir = glm::vec2(0.0f, -1.0f);
+                dir = glm::normalize(dir);
+                const glm::vec2 centre = origin + 0.5f * size;
+                const glm::vec2 half = 0.5f * size - glm::vec2(22.0f * s);
+                const float t = std::min(std::abs(dir.x) > 1e-6f ? half.x / std::abs(dir.x) : 1e30f,
+                                         std::abs(dir.y) > 1e-6f ? half.y / std::abs(dir.y) : 1e30f);
+                const glm::vec2 tip = centre + dir * std::max(t, 0.0f);
+                const glm::vec2 side(-dir.y, dir.x);
+                const glm::vec2 a = tip - dir * (16.0f * s) + side * (8.0f * s), b = tip - dir * (16.0f * s) - side * (8.0f * s);
+                draw->AddTriangleFilled(ImVec2(tip.x, tip.y), ImVec2(a.x, a.y), ImVec2(b.x, b.y), colour);
+                const glm::vec2 text = tip - dir * (30.0f * s) - glm::vec2(14.0f * s, 7.0f * s);
+                const std::string name = state_.lights.size() > 1 ? "light " + std::to_string(i) : "light";
+                draw->AddText(ImVec2(text.x, text.y), colour, name.c_str());
             }
             if (state_.showFrustum && l.castsShadows) {
                 LightView v = fitLightView(l, l.position, scene_->bounds(state_.time));
