@@ -1,11 +1,15 @@
 // Benchmark (not a test): the window's frame time while the user drags the light, under a virtual
 // X server, on `plant` with `pcf`, with the reduced resolution while dragging (the default) and
 // without (--no-reduce). It runs `xvfb-run shadowlab window --script` with a drag that starts on the
-// light's centre (drag-light: the mouse code path a user's drag takes), reads the per-frame report
+// light's centre (drag-light: the mouse code path a user's drag takes; plant's light is drawn just
+// above its default view, and the script's press there is allowed), reads the per-frame report
 // (--report) and prints, for the frames of the drag: median and 90th percentile of the whole frame
 // (script step, render, present, UI, swap, glFinish), of the technique's render alone, the render
 // size, and the first full-resolution frame after the drag (the refinement).
 // Usage: LP_NUM_THREADS=2 shadowlab_bench_window_drag [scene] [technique] [WxH] [drag frames] [runs]
+//        LP_NUM_THREADS=2 shadowlab_bench_window_drag plant all [WxH]   (issue 18's table: every
+//        technique, the UI frame time p50 / p95 after switching to it, while dragging the light, and
+//        idle while the reference accumulates; the frame count of each phase in brackets)
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -70,11 +74,74 @@ bool runOnce(const std::string& scene, const std::string& technique, const std::
     return !out.frameMs.empty();
 }
 
+// Issue 18's table: for one technique at its defaults, the UI frame time while it is switched to
+// (from `hard`; `hard` from `pcf`), while the light is dragged, and while idle with the reference accumulating, as
+// p50 and p95 of frame_ms over the frames of each phase (from --report).
+struct Phases {
+    std::vector<double> afterSwitch, drag, idle;
+};
+
+bool runPhases(const std::string& scene, const std::string& technique, const std::string& size, const fs::path& dir,
+               Phases& out) {
+    fs::path script = dir / "phases.txt", report = dir / "phases.json";
+    std::ofstream(script) << "panel off\nwait 10\ntechnique " << technique << "\nwait 12\n"
+                          << "drag-light 120 40 30\nwait 40\n";
+    std::string command = "xvfb-run -a -s '-screen 0 1920x1080x24' " + std::string(SHADOWLAB_BINARY) + " window --scene " +
+                          scene + " --technique " + (technique == "hard" ? "pcf" : "hard") + " --size " + size +
+                          " --script " + script.string() + " --report " +
+                          report.string() + " > " + (dir / "log.txt").string() + " 2>&1";
+    if (std::system(command.c_str()) != 0) return false;
+    const nlohmann::json frames = nlohmann::json::parse(std::ifstream(report))["frames"];
+    size_t switched = frames.size(), dragEnd = frames.size();
+    for (size_t i = 1; i < frames.size(); ++i) {
+        if (switched == frames.size() && frames[i]["technique"] == technique && frames[i - 1]["technique"] != technique)
+            switched = i;
+        if (switched < frames.size() && frames[i]["light"] != frames[i - 1]["light"]) {
+            out.drag.push_back(frames[i]["frame_ms"]);
+            dragEnd = i;
+        }
+    }
+    for (size_t i = switched; i < std::min(frames.size(), switched + 10); ++i)
+        if (out.drag.empty() || i < dragEnd - out.drag.size()) out.afterSwitch.push_back(frames[i]["frame_ms"]);
+    // Idle: after the drag's last frame and its refinement, while the reference accumulates.
+    for (size_t i = dragEnd + 3; i < frames.size(); ++i)
+        if (frames[i]["reference_samples"].get<int>() > frames[i - 1]["reference_samples"].get<int>())
+            out.idle.push_back(frames[i]["frame_ms"]);
+    return !out.afterSwitch.empty() && !out.drag.empty();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::string scene = argc > 1 ? argv[1] : "plant";
     std::string technique = argc > 2 ? argv[2] : "pcf";
+    if (technique == "all") {  // every technique the window runs, the three phases
+        std::string size = argc > 3 ? argv[3] : "1024x768";
+        fs::path dir = fs::temp_directory_path() / ("shadowlab-window-phases-" + std::to_string(getpid()));
+        fs::create_directories(dir);
+        std::printf("window UI frame time by phase: %s at %s, each technique at its defaults, LP_NUM_THREADS=%s\n", scene.c_str(),
+                    size.c_str(), std::getenv("LP_NUM_THREADS") ? std::getenv("LP_NUM_THREADS") : "(unset)");
+        std::printf("%-12s %20s %20s %20s\n", "technique", "after switch p50/p95", "drag p50/p95", "idle+ref p50/p95");
+        int status = 0;
+        for (const char* t : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "reference"}) {
+            Phases p;
+            if (!runPhases(scene, t, size, dir, p)) {
+                std::fprintf(stderr, "window_drag: %s: the window failed or a phase had no frames (see %s)\n", t,
+                             (dir / "log.txt").c_str());
+                status = 1;
+                continue;
+            }
+            auto cell = [](const std::vector<double>& v) {
+                char text[48];
+                if (v.empty()) std::snprintf(text, sizeof text, "-");
+                else std::snprintf(text, sizeof text, "%.0f / %.0f ms (%zu)", percentile(v, 0.5), percentile(v, 0.95), v.size());
+                return std::string(text);
+            };
+            std::printf("%-12s %20s %20s %20s\n", t, cell(p.afterSwitch).c_str(), cell(p.drag).c_str(), cell(p.idle).c_str());
+        }
+        fs::remove_all(dir);
+        return status;
+    }
     std::string size = argc > 3 ? argv[3] : "1024x768";
     int frames = argc > 4 ? std::atoi(argv[4]) : 60;
     int runs = argc > 5 ? std::atoi(argv[5]) : 2;

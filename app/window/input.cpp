@@ -140,7 +140,9 @@ void Window::mouseButton(int button, bool press, int mods, glm::vec2 windowAt) {
         drag_ = Drag::None;
         return;
     }
-    if (!layout_.technique.contains(windowAt)) return;
+    // A script's drag-light starts on the light's centre wherever it is drawn, even off the view
+    // (plant's light, above its default camera's view): the one press allowed outside.
+    if (!layout_.technique.contains(windowAt) && !pressOnLight_) return;
     const glm::vec2 at = toView(windowAt);
     glm::vec2 size(layout_.technique.w, layout_.technique.h);
     dragStart_ = dragLast_ = at;
@@ -478,7 +480,9 @@ void Window::runScriptStep() {
             d.from = *centre;
             d.to = *centre + glm::vec2(std::stof(a[0]), std::stof(a[1]));
             d.frames = std::max(1, std::stoi(a[2]));
+            pressOnLight_ = true;
             mouseButton(d.button, true, 0, d.from);
+            pressOnLight_ = false;
             scriptDrag_ = d;
             return;
         } else if (c.verb == "drag") {

@@ -684,6 +684,7 @@ std::string Window::lastFrameReport() const {
                      {"interacting", interacting()}, {"render_size", {size.x, size.y}},
                      {"reference_samples", reference_.done()},
                      {"window", {windowSize().x, windowSize().y}}, {"layout", layout_.toJson()},
+                     {"technique", state_.technique},
                      {"phases_ms", {{"ui", phaseMs_[0]}, {"render_and_reference", phaseMs_[1]}, {"present", phaseMs_[2]},
                                     {"imgui_draw", phaseMs_[3]}, {"swap", phaseMs_[4]}}}};
     if (!state_.lights.empty()) {

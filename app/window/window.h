@@ -217,7 +217,8 @@ private:
     ShaderProgram present_;
     WindowLayout layout_;
     float normalUiScale_ = 1.0f;
-    glm::ivec2 pickSize_{0};  // the technique view's size when the pixel was picked  // the UI scale to go back to when presentation mode ends
+    glm::ivec2 pickSize_{0};  // the technique view's size when the pixel was picked
+    bool pressOnLight_ = false;  // a script's drag-light press (input.cpp)  // the UI scale to go back to when presentation mode ends
     Texture errorDummy_;
     Texture viewCache_;          // the composed technique view (sRGB RGBA8), at the render's size
     Framebuffer viewCacheFbo_;
