@@ -52,9 +52,17 @@ void Window::updateViews() {
     if (!state_.showViews || views_.empty() || interacting() || reduced_) return;
 
     const float s = state_.uiScale;
-    const int w = int(300 * s), h = int(225 * s);
     glm::ivec2 pixel = state_.pickedPixel.value_or(glm::ivec2(-1));
-    for (auto& v : views_) {
+    for (size_t index = 0; index < views_.size(); ++index) {
+        auto& v = views_[index];
+        // Rendered at its cell's size (window/layout.h), less the title line and the caption band,
+        // so a view is as legible as its cell allows (300 x 225 x scale when it has no cell).
+        int w = int(300 * s), h = int(225 * s);
+        if (index < layout_.cells.size() && !layout_.cells[index].empty()) {
+            const float band = (17.0f * 3.0f + 10.0f) * s;
+            w = std::max(64, int(layout_.cells[index].w - 4.0f * s));
+            h = std::max(48, int(layout_.cells[index].h - band));
+        }
         bool error = v->name == "error";
         bool haveReference = reference_.complete() && referenceVersion_ == version_;
         std::vector<double> key = {double(version_), double(pixel.x), double(pixel.y), v->azimuth, v->elevation,
@@ -92,6 +100,7 @@ void Window::updateViews() {
                 continue;
             }
             if (!v->frame) v->frame = std::make_unique<VtkOffscreen>(w, h);
+            if (v->frame->width() != w || v->frame->height() != h) v->frame->resize(w, h);
             ViewResult result = renderView(*renderer_, *scene_, request, *v->frame);
             v->caption = result.caption;
             v->refusal.clear();

@@ -110,7 +110,7 @@ void Window::updateLayout() {
     if (state_.showViews)
         for (const auto& v : views_) {
             (void)v;
-            in.cellAspects.push_back(4.0f / 3.0f);  // the views render at 300 x 225 (views_panel.cpp)
+            in.cellAspects.push_back(4.0f / 3.0f);  // each view renders at its cell's size (views_panel.cpp)
         }
     if (state_.showAccuracy) in.cellAspects.push_back(560.0f / 380.0f);
     layout_ = computeWindowLayout(in);
