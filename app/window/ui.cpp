@@ -293,66 +293,64 @@ void Window::drawUi() {
             else ImGui::TextDisabled("   RMSE once the reference is complete");
             ImGui::End();
         } else {
-        ImGui::Text("%s  on  %s", state_.technique.c_str(), scene_->name.c_str());
-        ImGui::Text("%dx%d%s   clock %s", renderer_->width(), renderer_->height(), reduced_ ? " (reduced while dragging)" : "",
-                    renderer_->clockName());
-        if (state_.technique == "reference") {
-            ImGui::Text("progressive: %.1f ms per light sample", reference_.lastSampleMs());
-        } else {
-            ImGui::Text("shadow_ms %.2f   fixed_ms %.2f", stats_.value("shadow_ms", 0.0), stats_.value("fixed_ms", 0.0));
-            tooltip("Renderer::stats(): median of each needed pass's runs; shadow = the technique's passes, fixed = "
-                    "G-buffer and shading");
-        }
-        // Clamped kernels said: a capped kernel that truncated penumbrae (over 1% of its pixels in
-        // orange), from the same stats as --stats (kernel_caps).
-        for (const auto& light : stats_.value("lights", nlohmann::json::array())) {
-            for (const auto& k : light.value("kernel_caps", nlohmann::json::array())) {
-                const double f = k.value("clamped_fraction", 0.0);
-                if (!(f > 0.0)) continue;
-                const std::string text = "L" + std::to_string(light.value("index", 0)) + " " +
-                                         k.value("parameter", std::string()) + " clamped: " +
-                                         std::to_string(int(std::lround(100.0 * f))) + "% of " +
-                                         std::to_string(k.value("pixels", size_t(0))) + " px (cap " +
-                                         std::to_string(int(std::lround(k.value("cap", 0.0)))) + ")";
-                if (f > 0.01)
-                    ImGui::TextColored(ImVec4(1.0f, 0.65f, 0.2f, 1.0f), "%s", text.c_str());
-                else
-                    ImGui::Text("%s", text.c_str());
-                tooltip("the penumbra of these pixels is wider than the kernel's cap: raise the parameter");
+            ImGui::Text("%s  on  %s", state_.technique.c_str(), scene_->name.c_str());
+            ImGui::Text("%dx%d%s   clock %s", renderer_->width(), renderer_->height(), reduced_ ? " (reduced while dragging)" : "",
+                        renderer_->clockName());
+            if (state_.technique == "reference") {
+                ImGui::Text("progressive: %.1f ms per light sample", reference_.lastSampleMs());
+            } else {
+                ImGui::Text("shadow_ms %.2f   fixed_ms %.2f", stats_.value("shadow_ms", 0.0), stats_.value("fixed_ms", 0.0));
+                tooltip("Renderer::stats(): median of each needed pass's runs; shadow = the technique's passes, fixed = "
+                        "G-buffer and shading");
             }
-        }
-        ImGui::Text("UI %.0f fps (frame %.1f ms, render %.1f ms)", uiFps_, frameMs_, renderMs_);
-        if (reference_.active()) {
-            float fraction = reference_.total() > 0 ? float(reference_.done()) / float(reference_.total()) : 0.0f;
-            char overlay[64];
-            std::snprintf(overlay, sizeof overlay, "reference %d / %d", reference_.done(), reference_.total());
-            ImGui::ProgressBar(fraction, ImVec2(220 * s, 0), overlay);
-        }
-        bool current = metricsAll_ && metricsGeneration_ == reference_.generation() && metricsVersion_ == version_ &&
-                       reference_.complete();
-        if (current) {
-            ImGui::Text("RMSE %.4f  PSNR %.1f dB   (all %zu px)", metricsAll_->rmse, metricsAll_->psnr, metricsAll_->pixels);
-            ImGui::Text("RMSE %.4f  PSNR %.1f dB   (penumbra %zu px)", metricsPenumbra_->rmse, metricsPenumbra_->psnr,
-                        metricsPenumbra_->pixels);
-        } else if (state_.technique != "reference") {
-            ImGui::TextDisabled("RMSE / PSNR once the reference is complete");
-        }
-        if (state_.pickedPixel) ImGui::Text("picked pixel %d, %d", state_.pickedPixel->x, state_.pickedPixel->y);
-        if (state_.errorView) {
-            // the colour scale of shaders/window/present.frag's heat()
-            ImDrawList* draw = ImGui::GetWindowDrawList();
-            ImVec2 p = ImGui::GetCursorScreenPos();
-            float w = 200 * s, h = 10 * s;
-            const ImU32 stops[5] = {IM_COL32(0, 0, 0, 255), IM_COL32(26, 26, 179, 255), IM_COL32(204, 26, 153, 255),
-                                    IM_COL32(255, 128, 0, 255), IM_COL32(255, 255, 102, 255)};
-            for (int i = 0; i < 4; ++i)
-                draw->AddRectFilledMultiColor(ImVec2(p.x + w * i / 4, p.y), ImVec2(p.x + w * (i + 1) / 4, p.y + h), stops[i],
-                                              stops[i + 1], stops[i + 1], stops[i]);
-            ImGui::Dummy(ImVec2(w, h));
-            ImGui::Text("|V - V_ref|: 0 .. %.2f", state_.errorScale);
-            if (!(reference_.active() && reference_.done() > 0)) ImGui::TextDisabled("waiting for the reference");
-        }
-        ImGui::End();
+            // Clamped kernels said: a capped kernel that truncated penumbrae (over 1% of its pixels in
+            // orange), from the same stats as --stats (kernel_caps).
+            for (const auto& light : stats_.value("lights", nlohmann::json::array())) {
+                for (const auto& k : light.value("kernel_caps", nlohmann::json::array())) {
+                    const double f = k.value("clamped_fraction", 0.0);
+                    if (!(f > 0.0)) continue;
+                    const std::string text = "L" + std::to_string(light.value("index", 0)) + " " +
+                                             k.value("parameter", std::string()) + " clamped: " +
+                                             std::to_string(int(std::lround(100.0 * f))) + "% of " +
+                                             std::to_string(k.value("pixels", size_t(0))) + " px (cap " +
+                                             std::to_string(int(std::lround(k.value("cap", 0.0)))) + ")";
+                    if (f > 0.01)
+                        ImGui::TextColored(ImVec4(1.0f, 0.65f, 0.2f, 1.0f), "%s", text.c_str());
+                    else
+                        ImGui::Text("%s", text.c_str());
+                    tooltip("the penumbra of these pixels is wider than the kernel's cap: raise the parameter");
+                }
+            }
+            ImGui::Text("UI %.0f fps (frame %.1f ms, render %.1f ms)", uiFps_, frameMs_, renderMs_);
+            if (reference_.active()) {
+                float fraction = reference_.total() > 0 ? float(reference_.done()) / float(reference_.total()) : 0.0f;
+                char overlay[64];
+                std::snprintf(overlay, sizeof overlay, "reference %d / %d", reference_.done(), reference_.total());
+                ImGui::ProgressBar(fraction, ImVec2(220 * s, 0), overlay);
+            }
+            if (currentMetrics) {
+                ImGui::Text("RMSE %.4f  PSNR %.1f dB   (all %zu px)", metricsAll_->rmse, metricsAll_->psnr, metricsAll_->pixels);
+                ImGui::Text("RMSE %.4f  PSNR %.1f dB   (penumbra %zu px)", metricsPenumbra_->rmse, metricsPenumbra_->psnr,
+                            metricsPenumbra_->pixels);
+            } else if (state_.technique != "reference") {
+                ImGui::TextDisabled("RMSE / PSNR once the reference is complete");
+            }
+            if (state_.pickedPixel) ImGui::Text("picked pixel %d, %d", state_.pickedPixel->x, state_.pickedPixel->y);
+            if (state_.errorView) {
+                // the colour scale of shaders/window/present.frag's heat()
+                ImDrawList* draw = ImGui::GetWindowDrawList();
+                ImVec2 p = ImGui::GetCursorScreenPos();
+                float w = 200 * s, h = 10 * s;
+                const ImU32 stops[5] = {IM_COL32(0, 0, 0, 255), IM_COL32(26, 26, 179, 255), IM_COL32(204, 26, 153, 255),
+                                        IM_COL32(255, 128, 0, 255), IM_COL32(255, 255, 102, 255)};
+                for (int i = 0; i < 4; ++i)
+                    draw->AddRectFilledMultiColor(ImVec2(p.x + w * i / 4, p.y), ImVec2(p.x + w * (i + 1) / 4, p.y + h), stops[i],
+                                                  stops[i + 1], stops[i + 1], stops[i]);
+                ImGui::Dummy(ImVec2(w, h));
+                ImGui::Text("|V - V_ref|: 0 .. %.2f", state_.errorScale);
+                if (!(reference_.active() && reference_.done() > 0)) ImGui::TextDisabled("waiting for the reference");
+            }
+            ImGui::End();
         }
     }
 

@@ -107,11 +107,8 @@ void Window::updateLayout() {
     in.hud = state_.showHud;
     in.lesson = lesson_ != nullptr;
     in.present = state_.presentation;
-    if (state_.showViews)
-        for (const auto& v : views_) {
-            (void)v;
-            in.cellAspects.push_back(4.0f / 3.0f);  // each view renders at its cell's size (views_panel.cpp)
-        }
+    // Each view renders at its cell's size (views_panel.cpp), the chart at its own aspect.
+    if (state_.showViews) in.cellAspects.assign(views_.size(), 4.0f / 3.0f);
     if (state_.showAccuracy) in.cellAspects.push_back(560.0f / 380.0f);
     layout_ = computeWindowLayout(in);
 }
