@@ -85,7 +85,7 @@ bool runPhases(const std::string& scene, const std::string& technique, const std
                Phases& out) {
     fs::path script = dir / "phases.txt", report = dir / "phases.json";
     std::ofstream(script) << "panel off\nwait 10\ntechnique " << technique << "\nwait 12\n"
-                          << "drag-light 120 40 30\nwait 40\n";
+                          << "drag-light 120 40 30\nwait 150\n";  // the refinement, then the reference
     std::string command = "xvfb-run -a -s '-screen 0 1920x1080x24' " + std::string(SHADOWLAB_BINARY) + " window --scene " +
                           scene + " --technique " + (technique == "hard" ? "pcf" : "hard") + " --size " + size +
                           " --script " + script.string() + " --report " +

@@ -404,6 +404,9 @@ void Window::runScriptStep() {
         scriptWaitReference_ = 0;
     }
     while (!script_.empty()) {
+        // save-visibility saves a complete frame: while the frame budget has it refined in slices
+        // (or reduced), the script waits for it.
+        if (script_.front().verb == "save-visibility" && (!imageComplete_ || reduced_)) return;
         ScriptCommand c = script_.front();
         script_.pop_front();
         const auto& a = c.args;

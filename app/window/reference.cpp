@@ -96,29 +96,43 @@ void ProgressiveReference::sync(const Scene& scene, const Camera& camera, const 
     total_ = samples;
     done_ = 0;
     weightSum_ = 0.0;
+    sampleStarted_ = false;
 }
 
 int ProgressiveReference::step(double budgetMs) {
     if (!renderer_ || complete()) return 0;
     auto start = std::chrono::steady_clock::now();
+    auto spentMs = [&] {
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    };
     int ran = 0;
     while (done_ < total_) {
-        auto t0 = std::chrono::steady_clock::now();
-        // Every light at its sample s (each light its own stratification seed, as the technique).
-        double weight = 0.0;
-        for (size_t i = 0; i < lights_.size(); ++i) {
-            const Light& l = lights_[i];
-            glm::vec3 sample = shared::stratifiedSample(sampleOrder(uint32_t(done_), uint32_t(total_)),
-                                                        uint32_t(total_), uint32_t(i + 1));
-            Light at = l;
-            if (!l.isPoint())
-                at.position = shared::lightSamplePosition(l.position, l.right(), l.up, int(l.shape), l.size,
-                                                          glm::vec2(sample.x, sample.y));
-            renderer_->setLight(i, at);
-            weight += sample.z;
+        if (!sampleStarted_) {
+            // Every light at sample done_ (each light its own stratification seed, as the technique).
+            sampleWeight_ = 0.0;
+            for (size_t i = 0; i < lights_.size(); ++i) {
+                const Light& l = lights_[i];
+                glm::vec3 sample = shared::stratifiedSample(sampleOrder(uint32_t(done_), uint32_t(total_)),
+                                                            uint32_t(total_), uint32_t(i + 1));
+                Light at = l;
+                if (!l.isPoint())
+                    at.position = shared::lightSamplePosition(l.position, l.right(), l.up, int(l.shape), l.size,
+                                                              glm::vec2(sample.x, sample.y));
+                renderer_->setLight(i, at);
+                sampleWeight_ += sample.z;
+            }
+            sampleWeight_ /= double(std::max<size_t>(1, lights_.size()));
+            sampleStarted_ = true;
+            sampleMs_ = 0.0;
         }
-        weight /= double(std::max<size_t>(1, lights_.size()));
-        renderer_->renderFrame(int(time_ * 30.0 + 0.5), {"image", "visibility"});  // t = frame / 30
+        // The sample's hard frame in slices of what is left of the budget (at a size where one
+        // sample exceeds the frame budget it spans frames; the window's UI keeps its rate).
+        auto t0 = std::chrono::steady_clock::now();
+        const double progress = renderer_->refineFrame(int(time_ * 30.0 + 0.5), {"image", "visibility"},  // t = frame / 30
+                                                       std::max(0.5, budgetMs - spentMs()));
+        glFinish();
+        sampleMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (progress < 1.0) break;
         if (!accumulate_.id()) accumulate_ = ShaderProgram("common/fullscreen.vert", "window/accumulate.frag");
         PipelineState::additiveBlend().apply();
         accumulate_.use();
@@ -126,18 +140,17 @@ int ProgressiveReference::step(double budgetMs) {
         glBindTextureUnit(1, renderer_->pool().find("frame/visibility")->texture.id());
         accumulate_.set("image", 0);
         accumulate_.set("visibility", 1);
-        accumulate_.set("weight", float(weight));
+        accumulate_.set("weight", float(sampleWeight_));
         sums_.bind(width_, height_);
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glFinish();  // the sample's cost lands here, not in the next frame
-        weightSum_ += weight;
+        weightSum_ += sampleWeight_;
         ++done_;
         ++ran;
-        auto t1 = std::chrono::steady_clock::now();
-        lastSampleMs_ = std::chrono::duration<double, std::milli>(t1 - t0).count();
-        double spent = std::chrono::duration<double, std::milli>(t1 - start).count();
-        if (spent + lastSampleMs_ > budgetMs) break;
+        sampleStarted_ = false;
+        lastSampleMs_ = sampleMs_;
+        if (spentMs() + lastSampleMs_ > budgetMs) break;
     }
     return ran;
 }

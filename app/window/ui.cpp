@@ -264,7 +264,9 @@ void Window::drawUi() {
                 pendingScale_ = 0;
             }
             ImGui::Checkbox("reduced resolution while dragging (X)", &state_.reduceWhileDragging);
-            ImGui::SliderInt("at most", &state_.reduceFactor, 2, 4, "1/%d per side");
+            ImGui::SliderInt("at most", &state_.reduceFactor, 2, 16, "1/%d per side");
+            tooltip("while dragging, a technique whose frame exceeds the frame budget renders at a reduced "
+                    "resolution that fits it (README: the frame budget)");
             ImGui::Checkbox("HUD (H)", &state_.showHud);
             ImGui::SameLine();
             ImGui::Checkbox("play (Space)", &state_.playing);
@@ -276,7 +278,8 @@ void Window::drawUi() {
 
     // ---- the HUD
     if (state_.showHud) {
-        if (std::chrono::duration<double>(clock::now() - statsTime_).count() > 0.5 || stats_.is_null()) {
+        // Stats of complete frames only: a frame being refined holds half old, half new textures.
+        if ((imageComplete_ && std::chrono::duration<double>(clock::now() - statsTime_).count() > 0.5) || stats_.is_null()) {
             stats_ = renderer_->stats({}, 0, 0);
             statsTime_ = clock::now();
         }
@@ -289,13 +292,21 @@ void Window::drawUi() {
         if (state_.presentation) {  // the technique, shadow_ms and RMSE, nothing else
             ImGui::Text("%s   shadow_ms %.1f", state_.technique.c_str(), stats_.value("shadow_ms", 0.0));
             ImGui::SameLine();
+            if (!shownText().empty()) {
+                ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "   %s", shownText().c_str());
+                ImGui::SameLine();
+            }
             if (currentMetrics) ImGui::Text("   RMSE %.4f", metricsAll_->rmse);
             else ImGui::TextDisabled("   RMSE once the reference is complete");
             ImGui::End();
         } else {
             ImGui::Text("%s  on  %s", state_.technique.c_str(), scene_->name.c_str());
-            ImGui::Text("%dx%d%s   clock %s", renderer_->width(), renderer_->height(), reduced_ ? " (reduced while dragging)" : "",
-                        renderer_->clockName());
+            ImGui::Text("%dx%d   clock %s", shownRenderer().width(), shownRenderer().height(), renderer_->clockName());
+            if (!shownText().empty()) {
+                ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", shownText().c_str());
+                tooltip("the frame budget: a frame that does not fit 40 ms is shown at a reduced resolution while "
+                        "dragging, then refined at full resolution in slices over the next frames (README)");
+            }
             if (state_.technique == "reference") {
                 ImGui::Text("progressive: %.1f ms per light sample", reference_.lastSampleMs());
             } else {

@@ -49,7 +49,7 @@ void Window::syncViewList() {
 }
 
 void Window::updateViews() {
-    if (!state_.showViews || views_.empty() || interacting() || reduced_) return;
+    if (!state_.showViews || views_.empty() || interacting() || reduced_ || !imageComplete_) return;
 
     const float s = state_.uiScale;
     glm::ivec2 pixel = state_.pickedPixel.value_or(glm::ivec2(-1));

@@ -140,7 +140,9 @@ bool Window::rebuildScene() {
         setStatus(e.what(), true);
         return false;
     }
-    compareRenderer_.reset();
+    preview_ = MirrorRenderer();
+    compare_ = MirrorRenderer();
+    comparePreview_ = MirrorRenderer();
     reference_.cancel();
     renderer_.reset();
     scene_ = std::move(scene);
@@ -163,8 +165,49 @@ bool Window::rebuildScene() {
     }
     std::string title = "shadowlab - " + scene_->name + " - " + state_.technique + "   (F1: keys)";
     glfwSetWindowTitle(window_, title.c_str());
+    compileShaders();
+    // The reduced frames' renderer now, not at the first drag (it uploads the scene).
+    syncMirror(preview_, options.technique, state_.params, glm::max(glm::ivec2(1), size / 8));
     touch();
     return true;
+}
+
+void Window::compileShaders() {
+    // A small frame of every technique the window runs, on this scene (its light count is a define
+    // of the shading program): the programs land in the context's cache, so a technique switch
+    // later compiles nothing (on llvmpipe a technique's programs take 0.1-0.3 s, a frozen frame).
+    // llvmpipe also compiles a variant of each shader per texture state at its first draw, and the
+    // state holds whether a texture's sides are powers of two: the small frames take the view's
+    // pattern (1024 wide: a power of two) and that of the reduced frames (neither).
+    auto t0 = clock::now();
+    const glm::ivec2 full = renderSize();
+    auto pot = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
+    std::vector<glm::ivec2> sizes = {{pot(full.x) ? 16 : 17, pot(full.y) ? 16 : 17}};
+    if (sizes[0] != glm::ivec2(17, 17)) sizes.push_back({17, 17});
+    RenderOptions options;
+    options.cpuClock = true;
+    int count = 0;
+    for (const std::string& id : techniques_) {
+        if (id == "raytraced" || id == "reference") continue;
+        options.technique = id;
+        try {
+            options.width = sizes[0].x;
+            options.height = sizes[0].y;
+            Renderer r(*scene_, options);
+            for (const glm::ivec2& size : sizes) {
+                r.resize(size.x, size.y);
+                r.renderFrame(0, {"image", "visibility"});
+                r.refineFrame(1, {"image", "visibility"}, 1e9);  // the scissored draws too
+            }
+            ++count;
+        } catch (const InputError& e) {
+            setStatus(id + ": " + e.what(), true);
+        }
+    }
+    glFinish();
+    std::printf("shadowlab window: compiled the shaders of %d techniques for %s in %.1f s\n", count,
+                scene_->name.c_str(), msSince(t0) / 1000.0);
+    std::fflush(stdout);
 }
 
 // ---- actions ------------------------------------------------------------------------------------------
@@ -285,7 +328,6 @@ void Window::setCompare(WindowState::Compare compare, const std::string& techniq
             setStatus("split: '" + id + "' is not a live technique (the reference has its own split mode)", true);
             return;
         }
-        if (compareRenderer_ && id != state_.compareTechnique) compareRenderer_->setTechnique(id);
         state_.compareTechnique = id;
     }
     state_.compare = compare;  // what is shown, not what is rendered: no touch()
@@ -346,14 +388,62 @@ void Window::screenshot(const std::string& path) { pendingShots_.push_back(path)
 
 // ---- rendering ----------------------------------------------------------------------------------------
 
+double Window::renderBudgetMs() const {
+    // What the last frame spent outside rendering (script, UI, present, ImGui, swap) comes off the
+    // frame budget; the technique and the reference always get at least 8 ms.
+    const double other = phaseMs_[0] + phaseMs_[2] + phaseMs_[3] + phaseMs_[4];
+    return std::max(8.0, kFrameBudgetMs - other);
+}
+
+Renderer& Window::syncMirror(MirrorRenderer& m, const std::string& technique,
+                             const std::map<std::string, std::string>& params, glm::ivec2 size) {
+    if (!m.renderer) {
+        RenderOptions options;
+        options.width = size.x;
+        options.height = size.y;
+        options.technique = technique;
+        options.cpuClock = true;
+        m.renderer = std::make_unique<Renderer>(*scene_, options);
+        m.technique = technique;
+        m.params.clear();
+        m.version = ~0ull;
+    }
+    Renderer& r = *m.renderer;
+    if (m.version != version_ || m.technique != technique || m.params != params) {
+        if (m.technique != technique || m.params != params) {
+            r.setTechnique(technique);  // back to its defaults, then the parameters set
+            for (const auto& [key, value] : params) {
+                try {
+                    r.setParam(key, value, -1, "window");
+                } catch (const InputError&) {
+                    // the window's renderer validated the value already
+                }
+            }
+            m.technique = technique;
+            m.params = params;
+        }
+        r.setCamera(state_.camera);
+        for (size_t i = 0; i < state_.lights.size(); ++i) r.setLight(i, state_.lights[i]);
+        m.version = version_;
+    }
+    if (r.width() != size.x || r.height() != size.y) r.resize(size.x, size.y);
+    return r;
+}
+
+std::string Window::shownText() const {
+    char text[96];
+    const int factor = reduced_ && preview_.renderer ? std::max(1, renderSize().x / std::max(1, preview_.renderer->width())) : 1;
+    if (reduced_ && interacting()) std::snprintf(text, sizeof text, "reduced 1/%d while dragging", factor);
+    else if (reduced_) std::snprintf(text, sizeof text, "preview at 1/%d, refining next", factor);
+    else if (refineProgress_ < 1.0) std::snprintf(text, sizeof text, "refining, %d%%", int(100.0 * refineProgress_));
+    else if (!imageComplete_) std::snprintf(text, sizeof text, "refining %s", state_.compareTechnique.c_str());
+    else return "";
+    return text;
+}
+
 void Window::renderViews() {
     glm::ivec2 full = renderSize();
-    // Heavy: the last full-resolution render of a changed state took more than 15 ms. The factor
-    // divides the pixel count so the estimate fits 15 ms, at most 1 / reduceFactor per side.
-    double estimate = fullRenderMs_ < 0 ? (software_ ? 60.0 : 0.0) : fullRenderMs_;
-    int factor = std::clamp(int(std::ceil(std::sqrt(estimate / 15.0))), 1, std::max(1, state_.reduceFactor));
-    bool reduce = state_.reduceWhileDragging && interacting() && factor > 1 && pendingShots_.empty();
-    glm::ivec2 size = reduce ? glm::max(glm::ivec2(1), full / factor) : full;
+    const double budget = renderBudgetMs();
     // The layout changed the technique view's size (a panel, the views, presentation): the picked
     // pixel stays on the same point of the image.
     if (state_.pickedPixel && pickSize_ != full && pickSize_.x > 0 && pickSize_.y > 0) {
@@ -361,59 +451,115 @@ void Window::renderViews() {
         state_.pickedPixel = glm::clamp(glm::ivec2(f * glm::vec2(full)), glm::ivec2(0), full - 1);
         pickSize_ = full;
     }
-    if (renderer_->width() != size.x || renderer_->height() != size.y) renderer_->resize(size.x, size.y);
-    reduced_ = reduce;
     if (state_.playing) {
         ++frameIndex_;
         touch();
     }
     state_.time = frameIndex_ / 30.0;
 
+    // What this frame runs (README "The frame budget"): a screenshot renders whole; a drag, or the
+    // first frame of a change whose last full frame cost more than the budget, renders the whole
+    // frame at a reduced resolution that fits; otherwise the full resolution is refined in slices
+    // of the budget (Renderer::refineFrame), over as many frames as it needs, and shown once complete.
+    const bool shot = !pendingShots_.empty();
+    auto known = frameCostMs_.find(state_.technique);
+    const double knownCost = known == frameCostMs_.end() ? -1.0 : known->second;
+    double estimate = knownCost;
+    // Not known yet (the technique's first full frame is being refined): what the work so far says.
+    if (estimate < 0.0 && refineProgress_ > 0.05 && refineProgress_ < 1.0 && refineVersion_ == version_)
+        estimate = refineWorkMs_ / refineProgress_;
+    const bool dragging = interacting();
+    // The divisor per side of the frames while dragging, by technique: from the full frame's cost
+    // when first needed, then adapted to what the drag's frames cost (1: the full resolution fits).
+    auto factorIt = dragFactor_.find(state_.technique);
+    if (factorIt == dragFactor_.end() && dragging) {
+        const int initial = estimate < 0.0 ? (software_ ? 4 : 1) : int(std::ceil(std::sqrt(estimate / budget)));
+        factorIt = dragFactor_.emplace(state_.technique, std::clamp(initial, 1, std::max(1, state_.reduceFactor))).first;
+    }
+    int unusedFactor = estimate < 0.0 ? 4 : int(std::ceil(std::sqrt(estimate / budget)));
+    int& dragFactor = factorIt == dragFactor_.end() ? unusedFactor : factorIt->second;
+    dragFactor = std::clamp(dragFactor, 1, std::max(1, state_.reduceFactor));
+    bool reduce = false;
+    int factor = 1;
+    if (!shot && state_.reduceWhileDragging) {
+        if (dragging && dragFactor > 1) {
+            reduce = true;
+            factor = dragFactor;
+        } else if (!dragging && knownCost > budget && previewVersion_ != version_ && refineVersion_ != version_) {
+            reduce = true;  // a preview of the change first (sized by the last full frame's cost), then the refinement
+            factor = std::clamp(int(std::ceil(std::sqrt(knownCost / budget))), 2, std::max(2, state_.reduceFactor));
+        }
+    }
+    const glm::ivec2 size = reduce ? glm::max(glm::ivec2(1), full / factor) : full;
+    if (renderer_->width() != full.x || renderer_->height() != full.y) renderer_->resize(full.x, full.y);
+    if (reduce && !dragging) previewVersion_ = version_;
+    const std::string rendered = state_.technique == "reference" ? "hard" : state_.technique;
+    Renderer& target = reduce ? syncMirror(preview_, rendered, state_.params, size) : *renderer_;
+
     auto t0 = clock::now();
-    renderer_->renderFrame(frameIndex_, {"image", "visibility"});
+    const std::set<std::string> outputs = {"image", "visibility"};
+    const bool whole = shot || reduce || (dragging && state_.reduceWhileDragging);  // a drag's frames render whole
+    if (whole) {
+        target.renderFrame(frameIndex_, outputs);
+        if (!reduce) refineProgress_ = 1.0;
+    } else {
+        refineProgress_ = renderer_->refineFrame(frameIndex_, outputs, budget);
+    }
     glFinish();
     renderMs_ = msSince(t0);
-    if (!reduce && renderMs_ > 1.0) fullRenderMs_ = renderMs_;  // a frame that ran passes (not all reused)
-
-    if (state_.compare == WindowState::Compare::Technique) {
-        static uint64_t syncedVersion = ~0ull;
-        if (!compareRenderer_) {
-            RenderOptions options;
-            options.width = size.x;
-            options.height = size.y;
-            options.technique = state_.compareTechnique;
-            compareRenderer_ = std::make_unique<Renderer>(*scene_, options);
-            syncedVersion = ~0ull;
-        }
-        if (syncedVersion != version_) {
-            if (compareRenderer_->width() != size.x || compareRenderer_->height() != size.y)
-                compareRenderer_->resize(size.x, size.y);
-            compareRenderer_->setCamera(state_.camera);
-            for (size_t i = 0; i < state_.lights.size(); ++i) compareRenderer_->setLight(i, state_.lights[i]);
-            syncedVersion = version_;
-        }
-        compareRenderer_->renderFrame(frameIndex_, {"image"});
+    reduced_ = reduce;
+    if (dragging && !shot && renderMs_ > 0.5) {
+        // Adapt the drag's divisor: up as soon as a frame exceeds the budget, down when the next
+        // smaller divisor would still leave a third of the budget (hysteresis: no size flicker).
+        const double f = double(factor);
+        if (renderMs_ > budget) dragFactor = std::min(std::max(1, state_.reduceFactor), int(std::ceil(f * std::sqrt(renderMs_ / budget))));
+        else if (factor > 1 && renderMs_ * (f * f) / ((f - 1) * (f - 1)) < 0.67 * budget) dragFactor = factor - 1;
     }
+    if (!reduce) {
+        if (refineVersion_ != version_ || refineSize_ != size) {  // a new frame to make: its work starts at 0
+            refineVersion_ = version_;
+            refineSize_ = size;
+            refineWorkMs_ = 0.0;
+        }
+        refineWorkMs_ += renderMs_;
+        if (refineProgress_ >= 1.0 && refineWorkMs_ > 1.0) {
+            frameCostMs_[state_.technique] = refineWorkMs_;  // what this change cost at full size
+            refineWorkMs_ = 0.0;
+        }
+    }
+    double spent = renderMs_;
+
+    bool compareComplete = true;
+    if (state_.compare == WindowState::Compare::Technique) {
+        auto c0 = clock::now();
+        Renderer& other = syncMirror(reduce ? comparePreview_ : compare_, state_.compareTechnique, {}, size);
+        if (shot || reduce) other.renderFrame(frameIndex_, {"image"});
+        else compareComplete = other.refineFrame(frameIndex_, {"image"}, std::max(1.0, budget - spent)) >= 1.0;
+        spent += msSince(c0);
+    }
+    imageComplete_ = refineProgress_ >= 1.0 && compareComplete;
 
     bool needReference = state_.backgroundReference || state_.compare == WindowState::Compare::Reference ||
                          state_.errorView || state_.technique == "reference";
     if (!needReference) {
         if (reference_.active()) reference_.cancel();
-    } else if (!interacting() && pendingShots_.empty() &&
+    } else if (!interacting() && imageComplete_ && pendingShots_.empty() &&
                (std::chrono::duration<double>(clock::now() - lastInput_).count() > 0.5 || scriptWaitReference_ > 0)) {
-        // Half a second without input first: a sample can cost more than a frame on llvmpipe, and a
-        // pause between two drags should not wait for one.
+        // Half a second without input first (a pause between two drags should not wait for a
+        // sample), and only once the technique's frame is complete: the reference gets what is left
+        // of the budget, each of its samples refined in slices too.
         reference_.sync(*scene_, state_.camera, state_.lights, full.x, full.y, state_.time, state_.referenceSamples,
                         state_.referenceParams);
         referenceVersion_ = version_;
-        // The UI keeps 30 fps when one sample fits: what is left of 33 ms after the technique's frame.
-        reference_.step(std::max(1.0, 30.0 - renderMs_));
+        reference_.step(std::max(1.0, budget - spent));
     }
     updateMetrics();
 }
 
 void Window::updateMetrics() {
-    if (!reference_.complete() || referenceVersion_ != version_ || reduced_ || state_.technique == "reference") return;
+    if (!reference_.complete() || referenceVersion_ != version_ || reduced_ || !imageComplete_ ||
+        state_.technique == "reference")
+        return;
     if (metricsGeneration_ == reference_.generation() && metricsVersion_ == version_) return;
     Image test = renderer_->visibility();
     Image ref = reference_.visibility();
@@ -432,9 +578,10 @@ void Window::updateMetrics() {
 void Window::present() {
     glm::ivec2 fb = renderSize();
     const glm::ivec2 window = framebufferSize();
-    glm::ivec2 size(renderer_->width(), renderer_->height());
+    const Renderer& shown = shownRenderer();
+    glm::ivec2 size(shown.width(), shown.height());
     bool referenceShown = reference_.active() && reference_.done() > 0 && referenceVersion_ == version_;
-    GLuint a = renderer_->imageTexture().id(), b = a;
+    GLuint a = shown.imageTexture().id(), b = a;
     float scaleA = 1.0f, scaleB = 1.0f;
     int mode = 0;
     if (state_.technique == "reference" && referenceShown) {
@@ -444,7 +591,7 @@ void Window::present() {
     }
     if (state_.errorView) {
         if (referenceShown) {
-            a = renderer_->pool().find("frame/visibility")->texture.id();
+            a = shown.pool().find("frame/visibility")->texture.id();
             b = reference_.visibilitySum().id();
             scaleA = 1.0f;
             scaleB = reference_.normalization();
@@ -454,20 +601,29 @@ void Window::present() {
         b = reference_.imageSum().id();
         scaleB = reference_.normalization();
         mode = 1;
-    } else if (state_.compare == WindowState::Compare::Technique && compareRenderer_) {
-        b = compareRenderer_->imageTexture().id();
+    } else if (state_.compare == WindowState::Compare::Technique && shownCompare()) {
+        b = shownCompare()->imageTexture().id();
         mode = 1;
     }
     if (mode != 0) size = fb;  // two images (possibly of two sizes) meet at the split: compose at window size
+    // The reference's progress changes the picture only where the reference is shown.
+    const bool referenceInView = mode == 2 || (mode == 1 && state_.compare == WindowState::Compare::Reference) ||
+                                 state_.technique == "reference";
     std::vector<double> key = {double(version_), double(frameIndex_), double(a), double(b), double(mode),
                                double(size.x), double(size.y), state_.split, state_.errorScale,
-                               double(reference_.done()), double(reference_.generation()), renderMs_ > 0.5 ? double(++presentCount_) : 0.0};
-    if (!viewCache_ || viewCache_.width() != size.x || viewCache_.height() != size.y) {
+                               referenceInView ? double(reference_.done()) : 0.0,
+                               referenceInView ? double(reference_.generation()) : 0.0,
+                               renderMs_ > 0.5 ? double(++presentCount_) : 0.0};
+    // While the full-size frame is refined over several frames its textures are half old, half
+    // new: the view keeps the last complete picture (a reduced preview, scaled up) until it is done.
+    const bool keep = !imageComplete_ && viewCache_;
+    if (keep) size = glm::ivec2(viewCache_.width(), viewCache_.height());
+    if (!keep && (!viewCache_ || viewCache_.width() != size.x || viewCache_.height() != size.y)) {
         viewCache_ = Texture::create2D(size.x, size.y, Format::RGBA8);
         viewCacheFbo_ = Framebuffer({&viewCache_}, nullptr);
         presentKey_.clear();
     }
-    if (key != presentKey_) {
+    if (!keep && key != presentKey_) {
         viewCacheFbo_.bind(size.x, size.y);
         glDisable(GL_DEPTH_TEST);
         glDisable(GL_BLEND);
@@ -676,8 +832,10 @@ void Window::takeScreenshot(const std::string& path) {
 }
 
 std::string Window::lastFrameReport() const {
-    glm::ivec2 size = renderer_ ? glm::ivec2(renderer_->width(), renderer_->height()) : glm::ivec2(0);
+    glm::ivec2 size = renderer_ ? glm::ivec2(shownRenderer().width(), shownRenderer().height()) : glm::ivec2(0);
     nlohmann::json j{{"frame_ms", frameMs_}, {"render_ms", renderMs_}, {"reduced", reduced_},
+                     {"refine_progress", refineProgress_}, {"complete", imageComplete_ && !reduced_},
+                     {"budget_ms", renderBudgetMs()},
                      {"interacting", interacting()}, {"render_size", {size.x, size.y}},
                      {"reference_samples", reference_.done()},
                      {"window", {windowSize().x, windowSize().y}}, {"layout", layout_.toJson()},

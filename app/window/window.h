@@ -57,7 +57,7 @@ struct WindowState {
     bool playing = false;                   // animated scenes: time advances
     double time = 0.0;                      // seconds
     bool reduceWhileDragging = true;        // heavy techniques render at a reduced resolution while dragging
-    int reduceFactor = 4;                   // at most (the factor adapts to the last full render's cost)
+    int reduceFactor = 16;                  // at most 1/16 per side (the factor adapts to the frames' cost)
     bool backgroundReference = true;        // accumulate the reference whenever the input is idle
     int referenceSamples = 1024;            // N of `reference` (its descriptor's default)
     // The reference's shadow-map settings away from its defaults (sm_size, bias_const, bias_slope,
@@ -81,7 +81,8 @@ public:
     // The `reference` parameters each sample's hard frame takes (the rest is the sample count).
     static bool isDepthParam(const std::string& key);
     void cancel();
-    // Runs light samples until `budgetMs` of wall time is spent (at least one); returns how many ran.
+    // Runs light samples until `budgetMs` of wall time is spent (at least one piece of one sample's
+    // frame: a sample that does not fit is refined over several calls); returns how many completed.
     int step(double budgetMs);
     bool active() const { return renderer_ != nullptr; }
     bool complete() const { return active() && done_ >= total_; }
@@ -104,6 +105,8 @@ private:
     std::map<std::string, std::string> depthParams_;
     int width_ = 0, height_ = 0, total_ = 0, done_ = 0;
     double time_ = 0.0, weightSum_ = 0.0, lastSampleMs_ = 0.0;
+    bool sampleStarted_ = false;  // sample done_'s lights are set; its frame may span calls
+    double sampleWeight_ = 0.0, sampleMs_ = 0.0;
     uint64_t generation_ = 0;
     Texture imageSum_, visibilitySum_;
     Framebuffer sums_;
@@ -188,7 +191,7 @@ private:
     void recordAccuracyPoint();        // the current setting's shadow_ms and RMSE (metrics just computed)
     void drawAccuracyChart();
     bool rebuildScene();  // false (status says why) when the scene does not load: the old one stays
-    void applyRendererState();
+    void compileShaders();  // every technique's programs for the scene, before its first frame
     void renderViews();
     void present();
     void drawOverlay();
@@ -212,7 +215,24 @@ private:
     bool software_;
     std::vector<std::string> techniques_, scenes_;
     std::unique_ptr<Scene> scene_;
-    std::unique_ptr<Renderer> renderer_, compareRenderer_;
+    std::unique_ptr<Renderer> renderer_;  // the technique at the view's full size
+    // A renderer kept in step with the window's state when it is used (the split's technique, the
+    // reduced frames): a frame of its own size, so the full-size renderer is never resized by a
+    // drag (on llvmpipe reallocating the frame's textures cost ~0.1 s).
+    struct MirrorRenderer {
+        std::unique_ptr<Renderer> renderer;
+        std::string technique;
+        std::map<std::string, std::string> params;
+        uint64_t version = ~0ull;
+    };
+    // Creates or brings `m` to `technique` with `params`, the camera, the lights and `size`.
+    Renderer& syncMirror(MirrorRenderer& m, const std::string& technique,
+                         const std::map<std::string, std::string>& params, glm::ivec2 size);
+    MirrorRenderer preview_, compare_, comparePreview_;
+    const Renderer& shownRenderer() const { return reduced_ ? *preview_.renderer : *renderer_; }
+    const Renderer* shownCompare() const {
+        return reduced_ ? comparePreview_.renderer.get() : compare_.renderer.get();
+    }
     ProgressiveReference reference_;
     ShaderProgram present_;
     WindowLayout layout_;
@@ -234,7 +254,20 @@ private:
     glm::vec3 dragLightStart_{0}, dragHitStart_{0};
     glm::vec2 mouse_{0};
     bool reduced_ = false;      // this frame rendered at reduced resolution
-    double fullRenderMs_ = -1;  // last full-resolution render of a changed state
+    // The frame budget (README "The frame budget"): the UI frame aims at kFrameBudgetMs.
+    static constexpr double kFrameBudgetMs = 40.0;
+    double renderBudgetMs() const;  // what the technique and the reference may spend this frame
+    // What the technique view shows when it is not the complete frame: "refining, 40%", "reduced
+    // 1/7 while dragging", "preview at 1/7, refining next"; "" when it is.
+    std::string shownText() const;
+    std::map<std::string, double> frameCostMs_;  // by technique: what the last full-size change cost
+    std::map<std::string, int> dragFactor_;      // by technique: the drag frames' divisor per side (adapts)
+    uint64_t previewVersion_ = ~0ull;            // the state a reduced preview was shown for
+    double refineProgress_ = 1.0;                // of the full-size frame being refined (1: complete)
+    bool imageComplete_ = true;                  // the renderers' images are complete frames (present them)
+    uint64_t refineVersion_ = ~0ull;             // the state the work below is for
+    glm::ivec2 refineSize_{0};
+    double refineWorkMs_ = 0.0;                  // time spent on it so far
     double renderMs_ = 0, frameMs_ = 0, uiFps_ = 0;
     double phaseMs_[5] = {0, 0, 0, 0, 0};  // ui, render (+ reference), present, ImGui draw, swap
     nlohmann::json stats_;

@@ -1,6 +1,8 @@
 #include "graph/pass_graph.h"
 
 #include <algorithm>
+#include <numeric>
+#include <cmath>
 
 #include "error.h"
 
@@ -105,6 +107,8 @@ void PassGraph::addStaticSkip(const std::string& name, const std::string& group,
 }
 
 void PassGraph::rebuild() {
+    partial_ = Partial();  // node indices change
+    slicedComplete_ = true;
     previousNodes_.clear();
     previousRecords_.clear();
     for (Node& n : nodes_) previousNodes_[n.name] = std::move(n);
@@ -126,6 +130,7 @@ uint64_t PassGraph::version(const std::string& resource) const {
 
 void PassGraph::invalidate() {
     for (Node& n : nodes_) n.hasRun = false;
+    partial_ = Partial();
     invalidated_ = true;
 }
 
@@ -172,46 +177,68 @@ void PassGraph::measureCost(const std::set<std::string>& requested, int frame, c
     }
 }
 
+uint64_t PassGraph::inputKey(const Node& node) {
+    uint64_t key = 1469598103934665603ull;
+    for (const std::string& in : node.inputs) {
+        key = hashBytes(in.data(), in.size(), key);
+        key = hashValue(versions_[in], key);
+    }
+    return key;
+}
+
+void PassGraph::recordRun(Node& node, uint64_t key, int frame, double ms, const char* reason) {
+    PassRecord& record = records_[node.record];
+    record.reason = reason;
+    pushBounded(record.times, std::pair<int, double>(frame, ms), PassRecord::kKeptTimes);
+    ++record.runs;
+    record.status = "ran";
+    pushBounded(record.history, std::string("ran"), PassRecord::kKeptFrames);
+    node.hasRun = true;
+    node.lastKey = key;
+    node.lastRunFrame = frame;
+    for (const std::string& out : node.outputs) versions_[out] = hashBytes(out.data(), out.size(), key);
+}
+
+bool PassGraph::skipOrReuse(const Node& node, bool needed, uint64_t key) {
+    PassRecord& record = records_[node.record];
+    if (!needed) {
+        ++record.notNeeded;
+        record.status = "skipped";
+        record.reason = "not needed: no requested output reads it";
+        pushBounded(record.history, std::string("not needed"), PassRecord::kKeptFrames);
+        return true;
+    }
+    if (node.hasRun && key == node.lastKey) {
+        ++record.reuses;
+        record.status = "skipped";
+        record.reason = "inputs unchanged since frame " + std::to_string(node.lastRunFrame) + ": outputs reused";
+        pushBounded(record.history, std::string("reused"), PassRecord::kKeptFrames);
+        return true;
+    }
+    return false;
+}
+
+static const char* runReason(bool invalidated, int frame, bool hasRun) {
+    return invalidated && frame > 0 ? "cached outputs dropped (reuse disabled)"
+           : !hasRun                 ? "first frame that needs it"
+                                     : "an input changed";
+}
+
 void PassGraph::execute(const std::set<std::string>& requested, int frame, const Timer& timer) {
     std::vector<bool> need = needed(requested);
+    partial_ = Partial();  // a frame run whole drops what executeSliced left half done
+    slicedComplete_ = true;
     // In declaration order (a topological order, since inputs precede their readers): run the
     // needed passes whose input versions changed; reuse the outputs of the others.
     std::vector<bool> touched(records_.size(), false);
     for (size_t i = 0; i < nodes_.size(); ++i) {
         Node& node = nodes_[i];
-        PassRecord& record = records_[node.record];
         touched[node.record] = true;
-        if (!need[i]) {
-            ++record.notNeeded;
-            record.status = "skipped";
-            record.reason = "not needed: no requested output reads it";
-            pushBounded(record.history, std::string("not needed"), PassRecord::kKeptFrames);
-            continue;
-        }
-        uint64_t key = 1469598103934665603ull;
-        for (const std::string& in : node.inputs) {
-            key = hashBytes(in.data(), in.size(), key);
-            key = hashValue(versions_[in], key);
-        }
-        if (node.hasRun && key == node.lastKey) {
-            ++record.reuses;
-            record.status = "skipped";
-            record.reason = "inputs unchanged since frame " + std::to_string(node.lastRunFrame) + ": outputs reused";
-            pushBounded(record.history, std::string("reused"), PassRecord::kKeptFrames);
-            continue;
-        }
-        record.reason = invalidated_ && frame > 0 ? "cached outputs dropped (reuse disabled)"
-                        : !node.hasRun             ? "first frame that needs it"
-                                                   : "an input changed";
+        const uint64_t key = inputKey(node);
+        if (skipOrReuse(node, need[i], key)) continue;
+        const char* reason = runReason(invalidated_, frame, node.hasRun);
         double ms = timer(node.run);
-        pushBounded(record.times, std::pair<int, double>(frame, ms), PassRecord::kKeptTimes);
-        ++record.runs;
-        record.status = "ran";
-        pushBounded(record.history, std::string("ran"), PassRecord::kKeptFrames);
-        node.hasRun = true;
-        node.lastKey = key;
-        node.lastRunFrame = frame;
-        for (const std::string& out : node.outputs) versions_[out] = hashBytes(out.data(), out.size(), key);
+        recordRun(node, key, frame, ms, reason);
     }
     invalidated_ = false;
     for (size_t r = 0; r < records_.size(); ++r) {
@@ -219,6 +246,157 @@ void PassGraph::execute(const std::set<std::string>& requested, int frame, const
         if (!touched[r] && record.runs == 0 && record.reuses == 0 && record.notNeeded == 0 && !record.reason.empty())
             pushBounded(record.history, std::string("skipped"), PassRecord::kKeptFrames);  // a static reason
     }
+}
+
+void PassGraph::keepUnitCosts() {
+    if (partial_.node >= nodes_.size() || partial_.cost.empty()) return;
+    std::vector<float>& h = unitCost_[nodes_[partial_.node].name];
+    if (h.size() != partial_.cost.size()) h.assign(partial_.cost.size(), -1.0f);
+    for (size_t k = 0; k < h.size(); ++k)
+        if (partial_.cost[k] >= 0.0f) h[k] = partial_.cost[k];
+}
+
+double PassGraph::executeSliced(const std::set<std::string>& requested, int frame, const Timer& timer,
+                                double budgetMs, const Slicing& slicing) {
+    std::vector<bool> need = needed(requested);
+    if (slicedComplete_) {  // a new frame to refine
+        slicedDoneMs_ = 0.0;
+        slicedLastNode_ = 0;
+    }
+    double spent = 0.0;
+    bool ranSomething = false, stopped = false;
+    size_t stopAt = nodes_.size();
+    for (size_t i = 0; i < nodes_.size() && !stopped; ++i) {
+        Node& node = nodes_[i];
+        PassRecord& record = records_[node.record];
+        const uint64_t key = inputKey(node);
+        if (skipOrReuse(node, need[i], key)) continue;
+        if (ranSomething && spent >= budgetMs) {  // the budget is spent: the rest on the next call
+            stopped = true;
+            stopAt = i;
+            break;
+        }
+        // A pass at or before the last one this frame ran must run again: an input changed since,
+        // the refinement starts over.
+        if (!slicedComplete_ && slicedDoneMs_ > 0.0 && i <= slicedLastNode_ && partial_.node != i) slicedDoneMs_ = 0.0;
+        const char* reason = runReason(invalidated_, frame, node.hasRun);
+        const int units = slicing.units ? slicing.units(node.name) : 0;
+        if (units <= 0) {
+            double ms = timer(node.run);
+
+            recordRun(node, key, frame, ms, reason);
+            spent += ms;
+            slicedDoneMs_ += ms;
+            ranSomething = true;
+            slicedLastNode_ = i;
+            if (partial_.node == i) partial_ = Partial();
+            continue;
+        }
+        if (partial_.node != i || partial_.key != key || partial_.total != units) {
+            keepUnitCosts();  // an abandoned refinement still says what its rows cost
+            partial_ = Partial();
+            partial_.node = i;
+            partial_.key = key;
+            partial_.total = units;
+            partial_.cost.assign(size_t(units), -1.0f);
+            const std::vector<float>& h = unitCost_[node.name];
+            partial_.forecast = h.size() == size_t(units) && std::any_of(h.begin(), h.end(), [](float c) { return c >= 0.0f; });
+            if (!partial_.forecast) {
+                // No forecast: bands of 1/128 of the pass in a scattered order (stride coprime to the
+                // band count, near its golden section), so the first bands sample the whole frame
+                // and their mean cost predicts the next band's (rows differ a lot: sky is cheap,
+                // a penumbra under foliage dear).
+                partial_.band = std::max(1, units / 128);
+                const int bands = (units + partial_.band - 1) / partial_.band;
+                partial_.stride = std::max(1, int(double(bands) * 0.6180339887));
+                while (std::gcd(partial_.stride, bands) != 1) ++partial_.stride;
+            }
+            node.hasRun = false;  // its outputs are being rewritten: never reused half done
+        }
+        // Pieces that fit what is left of the budget. With a forecast (what each unit cost in the
+        // pass's last refinement at this many units, scaled by how this frame's pieces compare with
+        // it) the pieces are contiguous runs of units; without one, scattered bands at the mean
+        // cost of the bands run so far. (The pass's times of other sizes, e.g. a reduced frame while
+        // dragging, say nothing about a piece now.)
+        const std::vector<float>& history = unitCost_[node.name];
+        double known = 0.0;
+        int knownCount = 0;
+        for (float c : history)
+            if (c >= 0.0f) known += c, ++knownCount;
+        const double meanUnit = knownCount ? known / knownCount : 0.0;
+        auto forecastOf = [&](int k) { return history[size_t(k)] >= 0.0f ? double(history[size_t(k)]) : meanUnit; };
+        while (partial_.done < partial_.total) {
+            const double left = std::max(budgetMs - spent, 0.0);
+            if (ranSomething && left <= 0.0) break;
+            int from = 0, to = 0;
+            if (partial_.forecast) {
+                from = partial_.next;
+                const int rest = partial_.total - from;
+                double before = 0.0;
+                for (int k = 0; k < from; ++k) before += forecastOf(k);
+                const double scale = from > 0 && before > 0.0 ? std::clamp(partial_.ms / before, 0.5, 4.0) : 1.0;
+                double predicted = 0.0;
+                int count = 0;
+                while (count < rest && (predicted + forecastOf(from + count)) * scale <= left) predicted += forecastOf(from + count++);
+                to = from + std::clamp(count, 1, rest);
+            } else {
+                const int bands = (partial_.total + partial_.band - 1) / partial_.band;
+                const double meanBand = partial_.bandsRun > 0 ? partial_.ms / partial_.bandsRun : 0.0;
+                if (ranSomething && std::max(meanBand, partial_.lastMs) > left) break;
+                const int b = int((int64_t(partial_.next) * partial_.stride) % bands);
+                from = b * partial_.band;
+                to = std::min(partial_.total, from + partial_.band);
+            }
+            double ms = timer([&] { slicing.runUnits(node.name, from, to, node.run); });
+            for (int k = from; k < to; ++k) partial_.cost[size_t(k)] = float(ms / (to - from));
+            partial_.done += to - from;
+            partial_.lastMs = ms;
+            partial_.next = partial_.forecast ? to : partial_.next + 1;
+            ++partial_.bandsRun;
+            partial_.ms += ms;
+            spent += ms;
+            slicedDoneMs_ += ms;
+            ranSomething = true;
+            slicedLastNode_ = i;
+        }
+        if (partial_.done < partial_.total) {
+            record.status = "refining";
+            record.reason = std::to_string(partial_.done) + " of " + std::to_string(partial_.total) +
+                            " pieces run (the frame budget)";
+            stopped = true;
+            stopAt = i;
+            break;
+        }
+        recordRun(node, key, frame, partial_.ms, reason);
+        unitCost_[node.name] = std::move(partial_.cost);  // what each unit cost: the next refinement's forecast
+        partial_ = Partial();
+    }
+    invalidated_ = false;
+    if (!stopped) {
+        slicedComplete_ = true;
+        return 1.0;
+    }
+    slicedComplete_ = false;
+    // What is left: the rest of the pass it stopped in, and every needed pass after it that is
+    // stale now or reads what a stale pass writes, at their last whole times.
+    double remaining = 0.0;
+    std::set<std::string> dirty;
+    for (size_t i = stopAt; i < nodes_.size(); ++i) {
+        const Node& node = nodes_[i];
+        if (!need[i]) continue;
+        bool stale = !node.hasRun || inputKey(const_cast<Node&>(node)) != node.lastKey || i == stopAt;
+        for (const std::string& in : node.inputs) stale = stale || dirty.count(in) > 0;
+        if (!stale) continue;
+        for (const std::string& out : node.outputs) dirty.insert(out);
+        const PassRecord& record = records_[node.record];
+        double whole = record.times.empty() ? 0.0 : record.medianMs();
+        if (partial_.node == i && partial_.done > 0)
+            remaining += partial_.ms / partial_.done * double(partial_.total - partial_.done);
+        else
+            remaining += whole;
+    }
+    const double total = slicedDoneMs_ + remaining;
+    return total > 0.0 ? std::clamp(slicedDoneMs_ / total, 0.0, 0.99) : 0.0;
 }
 
 }  // namespace shadowlab

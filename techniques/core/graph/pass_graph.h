@@ -72,6 +72,25 @@ public:
     // every pass of a static scene in every frame).
     void invalidate();
 
+    // ---- progressive execution (the window's frame budget) ----
+    // A pass the graph may run a part at a time: `units(pass)` pieces of work (the renderer's
+    // frame-size passes: pairs of rows), `runUnits(pass, from, to, run)` runs pieces [from, to) of it
+    // (`run` is the pass's own function, called with the pieces' scissor set). A pass
+    // with 0 units runs whole.
+    struct Slicing {
+        std::function<int(const std::string& pass)> units;
+        std::function<void(const std::string& pass, int from, int to, const std::function<void()>& run)> runUnits;
+    };
+    // Runs frame `frame` as execute() does, but stops once `budgetMs` is spent (after at least one
+    // piece of work) and resumes where it stopped on the next call: a pass with units runs as many
+    // as its measured cost per unit fits in what is left of the budget, the others whole. A pass
+    // counts as run (its time the sum of its pieces, its outputs a new version) only when its last
+    // piece ran; when an input changes between calls, what it invalidates runs again from the
+    // start. Returns the estimated fraction of the frame's work done: 1 when every needed pass is
+    // current, and then the outputs are those execute() would have made.
+    double executeSliced(const std::set<std::string>& requested, int frame, const Timer& timer, double budgetMs,
+                         const Slicing& slicing);
+
     bool produces(const std::string& resource) const;
     uint64_t version(const std::string& resource) const;  // the latest version of a resource
     const std::vector<PassRecord>& records() const { return records_; }
@@ -99,6 +118,29 @@ private:
     std::map<std::string, int> writes_;          // resource -> number of versions written
     std::set<std::string> sources_;
     bool invalidated_ = false;
+    // executeSliced: the pass it stopped inside, and the work of the frame it is refining.
+    struct Partial {
+        size_t node = ~size_t(0);
+        uint64_t key = 0;  // the pass's input key when its first piece ran
+        int done = 0, total = 0;
+        double ms = 0.0;   // the pieces' time so far
+        bool forecast = false;    // contiguous pieces sized by unitCost_; else scattered bands
+        int band = 1, stride = 1; // scattered bands: units per band, the order's stride
+        int next = 0;             // the next unit (forecast) or the next band in the order
+        int bandsRun = 0;         // pieces run so far
+        double lastMs = 0.0;      // the last piece's time
+        std::vector<float> cost;  // ms per unit of the pieces run (-1: not run)
+    };
+    void keepUnitCosts();  // the partial's unit costs into unitCost_ (when it is abandoned)
+    std::map<std::string, std::vector<float>> unitCost_;  // by pass: ms per unit of its last refinement (-1: unknown)
+    Partial partial_;
+    double slicedDoneMs_ = 0.0;        // work finished since the frame being refined started
+    size_t slicedLastNode_ = 0;        // the last pass run in it (a pass at or before it running again: a restart)
+    bool slicedComplete_ = true;       // the last call finished its frame
+    uint64_t inputKey(const Node& node);
+    // Records a pass that is not needed, or whose inputs are unchanged (reused): true for both.
+    bool skipOrReuse(const Node& node, bool needed, uint64_t key);
+    void recordRun(Node& node, uint64_t key, int frame, double ms, const char* reason);
 };
 
 }  // namespace shadowlab

@@ -45,6 +45,33 @@ bool isFrameResource(const std::string& name) {
     return name == "gbuffer" || name == "camera" || name == "ambient" || name.rfind("scene.", 0) == 0;
 }
 
+// A resource of a technique that is a 2D texture of the frame's size (SizeRule::frame(), or like
+// one); `desc` holds the declarations its size rule may point to.
+bool isFrameTexture(const TechniqueDesc& desc, const std::string& name, int depth = 0) {
+    if (name == "gbuffer") return true;
+    if (depth > 16) return false;
+    for (const PassDesc& p : desc.passes)
+        for (const ResourceDesc& r : p.creates) {
+            if (r.name != name) continue;
+            if (r.kind != ResourceKind::Texture || r.size.scaleDown != 1) return false;
+            if (r.size.kind == SizeRule::Kind::Frame) return true;
+            return r.size.kind == SizeRule::Kind::Like && isFrameTexture(desc, r.size.from, depth + 1);
+        }
+    return false;
+}
+
+// A pass refineFrame may run in bands of rows: everything it writes is a frame-size texture, so a
+// scissor bounds its work (clears and draws honour it; its fragments depend on their own pixel's
+// inputs or on complete earlier passes).
+bool writesOnlyFrameTextures(const TechniqueDesc& desc, const PassDesc& pass) {
+    if (pass.creates.empty() && pass.modifies.empty()) return false;
+    for (const ResourceDesc& r : pass.creates)
+        if (!isFrameTexture(desc, r.name)) return false;
+    for (const std::string& m : pass.modifies)
+        if (!isFrameTexture(desc, m)) return false;
+    return true;
+}
+
 }  // namespace
 
 Renderer::Renderer(const Scene& scene, const RenderOptions& options)
@@ -203,6 +230,7 @@ void Renderer::buildGraph() {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     });
 
+    banded_ = {"gbuffer", "shade"};
     std::vector<std::string> shadeInputs = {"gbuffer", "ambient"};
     for (auto& lp : lights_) {
         LightSlot& slot = *lp;
@@ -233,6 +261,7 @@ void Renderer::buildGraph() {
             };
             std::vector<std::string> creates;
             for (const ResourceDesc& r : pass.creates) creates.push_back(g + r.name);
+            if (writesOnlyFrameTextures(*l.desc, pass)) banded_.insert(g + l.desc->id + "/" + pass.name);
             graph_.addPass(g + l.desc->id + "/" + pass.name, l.group, l.desc->id, qualify(pass.reads), creates,
                            qualify(pass.modifies), [this, &slot, i] { runTechniquePass(slot, i); });
         }
@@ -441,14 +470,35 @@ void Renderer::updateSources() {
     for (auto& l : lights_) updateLightSources(*l);
 }
 
-void Renderer::renderFrame(int frame, const std::set<std::string>& requested) {
+void Renderer::beginFrame(int frame, const std::set<std::string>& requested) {
     if (!timeSet_) frame_.time = frame * kSecondsPerFrame;
     timeSet_ = false;
     frameIndex_ = frame;
     updateSources();
     if (!options_.reuse) graph_.invalidate();
     lastRequested_ = requested;
+}
+
+void Renderer::renderFrame(int frame, const std::set<std::string>& requested) {
+    beginFrame(frame, requested);
     graph_.execute(requested, frame, [this](const std::function<void()>& run) { return timePass(run); });
+}
+
+double Renderer::refineFrame(int frame, const std::set<std::string>& requested, double budgetMs) {
+    beginFrame(frame, requested);
+    PassGraph::Slicing slicing;
+    // Pieces are pairs of rows: a band starts on an even row, so the 2x2 quads the G-buffer's
+    // derivatives come from (its geometric normal) are never split.
+    slicing.units = [this](const std::string& pass) { return banded_.count(pass) ? (frame_.height + 1) / 2 : 0; };
+    slicing.runUnits = [this](const std::string&, int from, int to, const std::function<void()>& run) {
+        const int y0 = 2 * from, y1 = std::min(frame_.height, 2 * to);
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(0, y0, frame_.width, y1 - y0);
+        run();
+        glDisable(GL_SCISSOR_TEST);
+    };
+    return graph_.executeSliced(requested, frame, [this](const std::function<void()>& run) { return timePass(run); },
+                                budgetMs, slicing);
 }
 
 void Renderer::measureCost(int firstFrame, int frames) {

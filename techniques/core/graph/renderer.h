@@ -44,6 +44,16 @@ public:
     // Renders frame `frame` at t = frame / 30 s, running only what `requested` needs: "image",
     // "visibility", "gbuffer", or a light's resource ("L0/shadow_map", see internalRequests()).
     void renderFrame(int frame, const std::set<std::string>& requested);
+    // The same frame in slices that fit `budgetMs` each (the window's frame budget, issue 18): one
+    // call runs what fits and returns the estimated fraction done; the next call resumes (or starts
+    // over what a changed input invalidated). Passes that write only frame-size textures (the
+    // G-buffer, the techniques' screen passes, shading) run in bands of rows under a scissor, pass
+    // after pass, so a pass reading its inputs at other pixels (a screen-space blur) sees them
+    // whole; the others run whole. At 1 the outputs equal renderFrame's (test: RefineFrame.*).
+    // Reuse stays on whatever RenderOptions::reuse says.
+    double refineFrame(int frame, const std::set<std::string>& requested, double budgetMs);
+    // The passes refineFrame runs in bands (their names in the graph).
+    const std::set<std::string>& bandedPasses() const { return banded_; }
 
     // ---- live state: each setter bumps exactly the versions it changes (checked by tests).
     // Technique of one light (or of every light: light = -1); its parameters start at their defaults.
@@ -112,6 +122,7 @@ private:
     };
     void configureLight(LightSlot& slot);  // picks what runs (hard for a point light) and its passes
     void buildGraph();
+    void beginFrame(int frame, const std::set<std::string>& requested);  // time, sources, request
     void releaseUndeclaredResources();  // frees what no pass of the current graph creates
     void allocateFrameResources();
     void updateSources();
@@ -131,6 +142,7 @@ private:
     std::vector<std::unique_ptr<LightSlot>> lights_;
     PassGraph graph_;
     std::set<std::string> lastRequested_;
+    std::set<std::string> banded_;  // passes that write only frame-size textures (refineFrame)
     int frameIndex_ = 0;
     bool timeSet_ = false;
     GLuint timerQuery_ = 0;

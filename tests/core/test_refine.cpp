@@ -1,0 +1,233 @@
+// The frame in slices (Renderer::refineFrame, PassGraph::executeSliced): what the window runs when a
+// technique's frame does not fit its frame budget (issue 18, "never frozen"). The graph resumes
+// where it stopped, starts over what a changed input invalidated, and the refined frame equals the
+// frame run whole.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "graph/renderer.h"
+#include "scene/scene.h"
+#include "support/gl_fixture.h"
+
+namespace shadowlab {
+namespace {
+
+using testing::GLTest;
+
+// A fake clock: every run "costs" what the pass says, so budgets are exact.
+struct FakeGraph {
+    PassGraph graph;
+    int mapRuns = 0, lookups = 0, shades = 0;
+    std::vector<std::pair<int, int>> pieces;  // the lookup's (from, to)
+    double costPerPiece = 1.0;                // ms per unit of "lookup"
+    double lastCost = 0.0;
+    PassGraph::Slicing slicing;
+    PassGraph::Timer timer;
+
+    FakeGraph() {
+        graph.setSource("light", 1);
+        graph.setSource("camera", 1);
+        graph.addPass("map", "L0", "hard", {"light"}, {"map"}, {}, [this] { ++mapRuns; lastCost = 2.0; });
+        graph.addPass("lookup", "L0", "hard", {"map", "camera"}, {"vis"}, {}, [this] { ++lookups; lastCost = 100.0; });
+        graph.addPass("shade", "frame", "", {"vis"}, {"image"}, {}, [this] { ++shades; lastCost = 1.0; });
+        slicing.units = [](const std::string& pass) { return pass == "lookup" ? 100 : 0; };
+        slicing.runUnits = [this](const std::string&, int from, int to, const std::function<void()>&) {
+            pieces.emplace_back(from, to);
+            lastCost = costPerPiece * (to - from);
+        };
+        timer = [this](const std::function<void()>& f) {
+            lastCost = 0.0;
+            f();
+            return lastCost;
+        };
+    }
+};
+
+TEST(PassGraphSliced, RunsAFrameOverSeveralCallsWithinTheBudget) {
+    FakeGraph g;
+    // 100 pieces of 1 ms each, a 10 ms budget: the map (2 ms) and 8 pieces, then 10 per call.
+    std::vector<double> progress;
+    for (int call = 0; call < 30; ++call) {
+        progress.push_back(g.graph.executeSliced({"image"}, 0, g.timer, 10.0, g.slicing));
+        if (progress.back() >= 1.0) break;
+    }
+    ASSERT_EQ(progress.back(), 1.0);
+    EXPECT_GE(progress.size(), 10u);  // 2 + 100 + 1 ms of work in 10 ms slices
+    EXPECT_LE(progress.size(), 13u);
+    EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end()));  // the HUD's "refining, k%" only grows
+    EXPECT_EQ(g.mapRuns, 1);
+    EXPECT_EQ(g.lookups, 0);  // the banded pass runs only as pieces
+    EXPECT_EQ(g.shades, 1);
+    // The pieces tile [0, 100), none twice; with no forecast yet they come in a scattered order
+    // (bands over the whole frame first), so they are not all in order.
+    std::vector<std::pair<int, int>> sorted = g.pieces;
+    std::sort(sorted.begin(), sorted.end());
+    int next = 0;
+    for (auto [from, to] : sorted) {
+        EXPECT_EQ(from, next);
+        EXPECT_GT(to, from);
+        next = to;
+    }
+    EXPECT_EQ(next, 100);
+    EXPECT_FALSE(std::is_sorted(g.pieces.begin(), g.pieces.end()));
+    // The next refinement of the pass has a forecast (what each unit cost): contiguous pieces.
+    g.graph.setSource("camera", 7);
+    g.pieces.clear();
+    double p = 0.0;
+    for (int call = 0; call < 30 && p < 1.0; ++call) p = g.graph.executeSliced({"image"}, 1, g.timer, 10.0, g.slicing);
+    ASSERT_EQ(p, 1.0);
+    EXPECT_TRUE(std::is_sorted(g.pieces.begin(), g.pieces.end()));
+    EXPECT_EQ(g.pieces.front().first, 0);
+    EXPECT_EQ(g.pieces.back().second, 100);
+    EXPECT_LE(g.pieces.size(), 12u);  // about 10 units per 10 ms call, not one unit per call
+    // The lookup counts one run a frame, its time the sum of its pieces (what a whole frame costs).
+    const PassRecord& lookup = g.graph.records()[1];
+    EXPECT_EQ(lookup.runs, 2);
+    ASSERT_EQ(lookup.times.size(), 2u);
+    EXPECT_NEAR(lookup.times.front().second, 100.0, 1e-9);
+    EXPECT_NEAR(lookup.times.back().second, 100.0, 1e-9);
+    // A complete frame is reused: nothing runs on the next call.
+    g.pieces.clear();
+    EXPECT_EQ(g.graph.executeSliced({"image"}, 2, g.timer, 10.0, g.slicing), 1.0);
+    EXPECT_TRUE(g.pieces.empty());
+    EXPECT_EQ(g.shades, 2);
+}
+
+TEST(PassGraphSliced, AChangedInputStartsThePassOver) {
+    FakeGraph g;
+    for (int call = 0; call < 3; ++call) g.graph.executeSliced({"image"}, 0, g.timer, 10.0, g.slicing);
+    ASSERT_FALSE(g.pieces.empty());
+    const int reached = g.pieces.back().second;
+    ASSERT_LT(reached, 100);
+    g.graph.setSource("camera", 2);  // the user moved the camera mid-refinement
+    g.pieces.clear();
+    g.graph.executeSliced({"image"}, 1, g.timer, 10.0, g.slicing);
+    ASSERT_FALSE(g.pieces.empty());
+    EXPECT_EQ(g.pieces.front().first, 0);  // from the first row again, not from `reached`
+    EXPECT_EQ(g.mapRuns, 1);               // the light did not move: the map is reused
+    // Back to the old camera before the lookup finished: its half-rewritten output is never reused.
+    g.graph.setSource("camera", 1);
+    g.pieces.clear();
+    double p = 0.0;
+    for (int call = 0; call < 30 && p < 1.0; ++call) p = g.graph.executeSliced({"image"}, 2, g.timer, 10.0, g.slicing);
+    ASSERT_EQ(p, 1.0);
+    ASSERT_FALSE(g.pieces.empty());
+    EXPECT_EQ(g.pieces.front().first, 0);
+    EXPECT_EQ(g.pieces.back().second, 100);
+}
+
+TEST(PassGraphSliced, ARunWholeDropsTheHalfDoneFrame) {
+    FakeGraph g;
+    g.graph.executeSliced({"image"}, 0, g.timer, 10.0, g.slicing);
+    g.graph.execute({"image"}, 1, g.timer);  // e.g. a screenshot renders whole
+    EXPECT_EQ(g.lookups, 1);
+    EXPECT_EQ(g.shades, 1);
+    g.pieces.clear();
+    EXPECT_EQ(g.graph.executeSliced({"image"}, 2, g.timer, 10.0, g.slicing), 1.0);  // current: reused
+    EXPECT_TRUE(g.pieces.empty());
+}
+
+class RefineFrameTest : public GLTest {};
+
+// Every technique the window runs: refined in small slices, the frame equals the frame run whole.
+// Tolerance 1e-5: the same shaders on the same pixels, only the scissor differs (a float sum in a
+// different order could differ in the last bits; nothing here sums across pixels).
+TEST_F(RefineFrameTest, EqualsTheFrameRunWholeForEveryTechnique) {
+    Scene scene = loadScene("plant");
+    for (const char* technique : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour"}) {
+        SCOPED_TRACE(technique);
+        RenderOptions options;
+        options.width = 96;
+        options.height = 72;
+        options.technique = technique;
+        Renderer whole(scene, options), refined(scene, options);
+        whole.renderFrame(0, {"image", "visibility"});
+        int calls = 0;
+        double progress = 0.0;
+        while (progress < 1.0 && calls < 2000) {
+            progress = refined.refineFrame(0, {"image", "visibility"}, 0.001);  // one piece per call
+            ++calls;
+        }
+        ASSERT_EQ(progress, 1.0);
+        EXPECT_GT(calls, 36);  // at least the G-buffer's 36 row pairs one by one
+        EXPECT_TRUE(refined.bandedPasses().count("gbuffer"));
+        EXPECT_TRUE(refined.bandedPasses().count("shade"));
+        const std::string prefix = std::string("L0/") + technique + "/";
+        EXPECT_GE(std::count_if(refined.bandedPasses().begin(), refined.bandedPasses().end(),
+                                [&](const std::string& p) { return p.rfind(prefix, 0) == 0; }),
+                  1);  // the technique's screen passes run in bands too
+        Image a = whole.visibility(), b = refined.visibility();
+        ASSERT_EQ(a.data.size(), b.data.size());
+        double worst = 0.0;
+        for (size_t i = 0; i < a.data.size(); ++i) worst = std::max(worst, double(std::abs(a.data[i] - b.data[i])));
+        EXPECT_LE(worst, 1e-5);
+        Image ia = whole.image(), ib = refined.image();
+        double worstImage = 0.0;
+        for (size_t i = 0; i < ia.data.size(); ++i)
+            worstImage = std::max(worstImage, double(std::abs(ia.data[i] - ib.data[i])));
+        EXPECT_LE(worstImage, 1e-5);
+        // Moving the light mid-refinement and finishing gives the frame of the new light.
+        Light moved = scene.lights[0];
+        moved.position += glm::vec3(0.4f, 0.0f, -0.3f);
+        for (int k = 0; k < 5; ++k) refined.refineFrame(1, {"image", "visibility"}, 0.001);
+        refined.setLight(0, moved);
+        whole.setLight(0, moved);
+        whole.renderFrame(1, {"image", "visibility"});
+        progress = 0.0;
+        for (calls = 0; progress < 1.0 && calls < 4000; ++calls)
+            progress = refined.refineFrame(1, {"image", "visibility"}, 2.0);
+        ASSERT_EQ(progress, 1.0);
+        a = whole.visibility();
+        b = refined.visibility();
+        worst = 0.0;
+        for (size_t i = 0; i < a.data.size(); ++i) worst = std::max(worst, double(std::abs(a.data[i] - b.data[i])));
+        EXPECT_LE(worst, 1e-5);
+    }
+}
+
+// A piece writes its rows only (the scissor bounds the work): after one piece of a new camera's
+// G-buffer, the two rows at the bottom hold the new camera's positions and every other row the old.
+TEST_F(RefineFrameTest, APieceWritesOnlyItsRows) {
+    Scene scene = loadScene("square-occluder");
+    RenderOptions options;
+    options.width = 64;
+    options.height = 48;
+    options.technique = "hard";
+    Renderer a(scene, options), b(scene, options), r(scene, options);
+    Camera moved = scene.camera;
+    moved.position += glm::vec3(0.7f, -0.4f, 0.2f);
+    b.setCamera(moved);
+    a.renderFrame(0, {"gbuffer"});
+    b.renderFrame(0, {"gbuffer"});
+    r.renderFrame(0, {"gbuffer"});
+    r.setCamera(moved);
+    EXPECT_LT(r.refineFrame(1, {"gbuffer"}, 0.001), 1.0);
+    Image pa = a.positions(), pb = b.positions(), pr = r.positions();
+    int newRows = 0, oldRows = 0, other = 0;
+    for (int y = 0; y < pr.height; ++y) {  // Image rows count from the top: GL's rows 0-1 are the last two
+        bool isNew = true, isOld = true;
+        for (int x = 0; x < pr.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float v = pr.at(x, y, c), va = pa.at(x, y, c), vb = pb.at(x, y, c);
+                const bool nan = std::isnan(v);
+                isNew = isNew && (nan ? std::isnan(vb) : v == vb);
+                isOld = isOld && (nan ? std::isnan(va) : v == va);
+            }
+        if (isNew && !isOld) {
+            ++newRows;
+            EXPECT_GE(y, pr.height - 2);
+        } else if (isOld && !isNew) {
+            ++oldRows;
+        } else if (!isNew && !isOld) {
+            ++other;
+        }
+    }
+    EXPECT_EQ(newRows, 2);
+    EXPECT_GE(oldRows, pr.height / 2);  // rows the two cameras see alike (background) count as neither
+    EXPECT_EQ(other, 0);
+}
+
+}  // namespace
+}  // namespace shadowlab
