@@ -278,10 +278,13 @@ void Window::drawUi() {
 
     // ---- the HUD
     if (state_.showHud) {
-        // Stats of complete frames only: a frame being refined holds half old, half new textures.
-        if ((imageComplete_ && std::chrono::duration<double>(clock::now() - statsTime_).count() > 0.5) || stats_.is_null()) {
+        // Stats of complete full-size frames only (a frame being refined holds half old, half new
+        // textures; a reduced frame's passes ran at another size), of the technique shown.
+        const bool statsDue = !statsValid_ || std::chrono::duration<double>(clock::now() - statsTime_).count() > 0.5;
+        if (imageComplete_ && !reduced_ && refineVersion_ != ~0ull && statsDue) {
             stats_ = renderer_->stats({}, 0, 0);
             statsTime_ = clock::now();
+            statsValid_ = true;
         }
         placeRegion(layout_.hud);
         ImGui::SetNextWindowBgAlpha(0.88f);
@@ -290,7 +293,8 @@ void Window::drawUi() {
         bool currentMetrics = metricsAll_ && metricsGeneration_ == reference_.generation() && metricsVersion_ == version_ &&
                               reference_.complete();
         if (state_.presentation) {  // the technique, shadow_ms and RMSE, nothing else
-            ImGui::Text("%s   shadow_ms %.1f", state_.technique.c_str(), stats_.value("shadow_ms", 0.0));
+            if (statsValid_) ImGui::Text("%s   shadow_ms %.1f", state_.technique.c_str(), stats_.value("shadow_ms", 0.0));
+            else ImGui::Text("%s   shadow_ms once a frame is complete", state_.technique.c_str());
             ImGui::SameLine();
             if (!shownText().empty()) {
                 ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "   %s", shownText().c_str());
@@ -310,13 +314,16 @@ void Window::drawUi() {
             if (state_.technique == "reference") {
                 ImGui::Text("progressive: %.1f ms per light sample", reference_.lastSampleMs());
             } else {
-                ImGui::Text("shadow_ms %.2f   fixed_ms %.2f", stats_.value("shadow_ms", 0.0), stats_.value("fixed_ms", 0.0));
+                if (statsValid_)
+                    ImGui::Text("shadow_ms %.2f   fixed_ms %.2f", stats_.value("shadow_ms", 0.0), stats_.value("fixed_ms", 0.0));
+                else
+                    ImGui::TextDisabled("shadow_ms / fixed_ms once a frame is complete");
                 tooltip("Renderer::stats(): median of each needed pass's runs; shadow = the technique's passes, fixed = "
                         "G-buffer and shading");
             }
             // Clamped kernels said: a capped kernel that truncated penumbrae (over 1% of its pixels in
             // orange), from the same stats as --stats (kernel_caps).
-            for (const auto& light : stats_.value("lights", nlohmann::json::array())) {
+            for (const auto& light : statsValid_ ? stats_.value("lights", nlohmann::json::array()) : nlohmann::json::array()) {
                 for (const auto& k : light.value("kernel_caps", nlohmann::json::array())) {
                     const double f = k.value("clamped_fraction", 0.0);
                     if (!(f > 0.0)) continue;

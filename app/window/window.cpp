@@ -236,6 +236,7 @@ void Window::selectTechnique(const std::string& id) {
         return;
     }
     state_.technique = id;
+    statsValid_ = false;
     state_.params.clear();  // setTechnique starts at the technique's defaults
     renderer_->setTechnique(id == "reference" ? "hard" : id);
     std::string title = "shadowlab - " + scene_->name + " - " + id + "   (F1: keys)";
@@ -431,6 +432,7 @@ Renderer& Window::syncMirror(MirrorRenderer& m, const std::string& technique,
 }
 
 std::string Window::shownText() const {
+    if (!pendingShots_.empty()) return "";  // a screenshot's frame renders whole
     char text[96];
     const int factor = reduced_ && preview_.renderer ? std::max(1, renderSize().x / std::max(1, preview_.renderer->width())) : 1;
     if (reduced_ && interacting()) std::snprintf(text, sizeof text, "reduced 1/%d while dragging", factor);

@@ -271,6 +271,7 @@ private:
     double renderMs_ = 0, frameMs_ = 0, uiFps_ = 0;
     double phaseMs_[5] = {0, 0, 0, 0, 0};  // ui, render (+ reference), present, ImGui draw, swap
     nlohmann::json stats_;
+    bool statsValid_ = false;  // stats_ is of a complete frame of the technique selected
     clock::time_point statsTime_{};
     // metrics against the reference, for (reference generation, state version)
     std::optional<Metrics> metricsAll_, metricsPenumbra_;
