@@ -500,7 +500,7 @@ void Window::renderViews() {
 
     auto t0 = clock::now();
     const std::set<std::string> outputs = {"image", "visibility"};
-    const bool whole = shot || reduce || (dragging && state_.reduceWhileDragging);  // a drag's frames render whole
+    const bool whole = shot || reduce || dragging;  // a drag's frames render whole (full size with --no-reduce)
     if (whole) {
         target.renderFrame(frameIndex_, outputs);
         if (!reduce) refineProgress_ = 1.0;
