@@ -84,7 +84,9 @@ struct Phases {
 bool runPhases(const std::string& scene, const std::string& technique, const std::string& size, const fs::path& dir,
                Phases& out) {
     fs::path script = dir / "phases.txt", report = dir / "phases.json";
-    std::ofstream(script) << "panel off\nwait 10\ntechnique " << technique << "\nwait 12\n"
+    // Forty frames first: hiding the panel re-lays the window out (the full-size renderer and the
+    // reference reallocate at the new size, ~0.3 s on llvmpipe); the switch is timed after that.
+    std::ofstream(script) << "panel off\nwait 40\ntechnique " << technique << "\nwait 12\n"
                           << "drag-light 120 40 30\nwait 150\n";  // the refinement, then the reference
     std::string command = "xvfb-run -a -s '-screen 0 1920x1080x24' " + std::string(SHADOWLAB_BINARY) + " window --scene " +
                           scene + " --technique " + (technique == "hard" ? "pcf" : "hard") + " --size " + size +

@@ -166,8 +166,11 @@ bool Window::rebuildScene() {
     std::string title = "shadowlab - " + scene_->name + " - " + state_.technique + "   (F1: keys)";
     glfwSetWindowTitle(window_, title.c_str());
     compileShaders();
-    // The reduced frames' renderer now, not at the first drag (it uploads the scene).
+    // The reduced frames' renderer and the progressive reference's now, not at the first drag or
+    // the first idle moment: each uploads the scene (~0.25 s on plant).
     syncMirror(preview_, options.technique, state_.params, glm::max(glm::ivec2(1), size / 8));
+    reference_.sync(*scene_, state_.camera, state_.lights, size.x, size.y, state_.time, state_.referenceSamples,
+                    state_.referenceParams);
     touch();
     return true;
 }
@@ -496,7 +499,10 @@ void Window::renderViews() {
     if (renderer_->width() != full.x || renderer_->height() != full.y) renderer_->resize(full.x, full.y);
     if (reduce && !dragging) previewVersion_ = version_;
     const std::string rendered = state_.technique == "reference" ? "hard" : state_.technique;
+    const glm::ivec2 previewBefore = preview_.renderer ? glm::ivec2(preview_.renderer->width(), preview_.renderer->height()) : glm::ivec2(0);
     Renderer& target = reduce ? syncMirror(preview_, rendered, state_.params, size) : *renderer_;
+    // A frame right after a resize pays for new textures: it says nothing about the divisor.
+    const bool previewResized = reduce && previewBefore != size;
 
     auto t0 = clock::now();
     const std::set<std::string> outputs = {"image", "visibility"};
@@ -510,7 +516,7 @@ void Window::renderViews() {
     glFinish();
     renderMs_ = msSince(t0);
     reduced_ = reduce;
-    if (dragging && !shot && renderMs_ > 0.5) {
+    if (dragging && !shot && renderMs_ > 0.5 && !previewResized) {
         // Adapt the drag's divisor: up as soon as a frame exceeds the budget, down when the next
         // smaller divisor would still leave a third of the budget (hysteresis: no size flicker).
         const double f = double(factor);
@@ -619,12 +625,17 @@ void Window::present() {
     // While the full-size frame is refined over several frames its textures are half old, half
     // new: the view keeps the last complete picture (a reduced preview, scaled up) until it is done.
     const bool keep = !imageComplete_ && viewCache_;
-    if (keep) size = glm::ivec2(viewCache_.width(), viewCache_.height());
-    if (!keep && (!viewCache_ || viewCache_.width() != size.x || viewCache_.height() != size.y)) {
-        viewCache_ = Texture::create2D(size.x, size.y, Format::RGBA8);
+    if (keep) size = cacheSize_;
+    // The cache has the view's full size; a reduced picture is composed into its lower-left corner
+    // (reallocating it at every size a drag takes cost ~40 ms a time on llvmpipe).
+    const glm::ivec2 capacity = glm::max(fb, size);
+    if (!keep && (!viewCache_ || viewCache_.width() < capacity.x || viewCache_.height() < capacity.y ||
+                  viewCache_.width() > 2 * capacity.x || viewCache_.height() > 2 * capacity.y)) {
+        viewCache_ = Texture::create2D(capacity.x, capacity.y, Format::RGBA8);
         viewCacheFbo_ = Framebuffer({&viewCache_}, nullptr);
         presentKey_.clear();
     }
+    cacheSize_ = size;
     if (!keep && key != presentKey_) {
         viewCacheFbo_.bind(size.x, size.y);
         glDisable(GL_DEPTH_TEST);

@@ -242,6 +242,7 @@ private:
     Texture errorDummy_;
     Texture viewCache_;          // the composed technique view (sRGB RGBA8), at the render's size
     Framebuffer viewCacheFbo_;
+    glm::ivec2 cacheSize_{0};    // the part of viewCache_ the last composition filled
     std::vector<double> presentKey_;  // what the cache shows
     uint64_t presentCount_ = 0;
     int frameIndex_ = 0;

@@ -313,6 +313,27 @@ double PassGraph::executeSliced(const std::set<std::string>& requested, int fram
             }
             node.hasRun = false;  // its outputs are being rewritten: never reused half done
         }
+        // Its outputs made ready first (allocation and first touch cost what a band of rows may
+        // not), as work of its own: on the next call when over half the budget is spent.
+        while (!partial_.prepared && slicing.prepare) {
+            if (ranSomething && spent >= 0.5 * budgetMs) break;
+            int step = -1;
+            const double ms = timer([&] { step = slicing.prepare(node.name); });
+            if (step != 0) partial_.prepared = true;
+            if (step >= 0) {
+                spent += ms;
+                slicedDoneMs_ += ms;
+                ranSomething = true;
+                slicedLastNode_ = i;
+            }
+        }
+        if (!partial_.prepared && slicing.prepare) {
+            record.status = "refining";
+            record.reason = "allocating its outputs (the frame budget)";
+            stopped = true;
+            stopAt = i;
+            break;
+        }
         // Pieces that fit what is left of the budget. With a forecast (what each unit cost in the
         // pass's last refinement at this many units, scaled by how this frame's pieces compare with
         // it) the pieces are contiguous runs of units; without one, scattered bands at the mean

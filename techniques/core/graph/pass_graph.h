@@ -80,6 +80,10 @@ public:
     struct Slicing {
         std::function<int(const std::string& pass)> units;
         std::function<void(const std::string& pass, int from, int to, const std::function<void()>& run)> runUnits;
+        // Before a pass's first piece: gets it ready (allocates and first-touches its outputs) in
+        // steps that are pieces of work of their own: returns -1 when there was nothing to do, 0
+        // after a step with more to do, 1 after the last step. Optional.
+        std::function<int(const std::string& pass)> prepare;
     };
     // Runs frame `frame` as execute() does, but stops once `budgetMs` is spent (after at least one
     // piece of work) and resumes where it stopped on the next call: a pass with units runs as many
@@ -128,6 +132,7 @@ private:
         int band = 1, stride = 1; // scattered bands: units per band, the order's stride
         int next = 0;             // the next unit (forecast) or the next band in the order
         int bandsRun = 0;         // pieces run so far
+        bool prepared = false;    // Slicing::prepare ran
         double lastMs = 0.0;      // the last piece's time
         std::vector<float> cost;  // ms per unit of the pieces run (-1: not run)
     };

@@ -231,6 +231,7 @@ void Renderer::buildGraph() {
     });
 
     banded_ = {"gbuffer", "shade"};
+    passSlots_.clear();
     std::vector<std::string> shadeInputs = {"gbuffer", "ambient"};
     for (auto& lp : lights_) {
         LightSlot& slot = *lp;
@@ -262,6 +263,7 @@ void Renderer::buildGraph() {
             std::vector<std::string> creates;
             for (const ResourceDesc& r : pass.creates) creates.push_back(g + r.name);
             if (writesOnlyFrameTextures(*l.desc, pass)) banded_.insert(g + l.desc->id + "/" + pass.name);
+            passSlots_[g + l.desc->id + "/" + pass.name] = {&slot, i};
             graph_.addPass(g + l.desc->id + "/" + pass.name, l.group, l.desc->id, qualify(pass.reads), creates,
                            qualify(pass.modifies), [this, &slot, i] { runTechniquePass(slot, i); });
         }
@@ -297,15 +299,19 @@ void Renderer::buildGraph() {
     });
 }
 
-// Allocates the pass's resources from their declarations, applies its pipeline state, and runs it
-// through a context that checks every access against the declaration.
-void Renderer::runTechniquePass(LightSlot& slot, size_t index) {
+// Allocates the pass's resources from their declarations (reallocates what changed size or
+// declaration, frees what does not apply); returns the textures it allocated anew.
+std::vector<const Texture*> Renderer::ensurePassResources(LightSlot& slot, size_t index, size_t maxFresh, bool* more) {
+    if (more) *more = false;
     LightState& l = slot.state;
     const PassDesc& pass = l.desc->passes[index];
-    std::string name = l.group + "/" + l.desc->id + "/" + pass.name;
-    std::set<std::string> declared(pass.reads.begin(), pass.reads.end());
-    for (const std::string& w : pass.writes()) declared.insert(w);
+    const std::string name = l.group + "/" + l.desc->id + "/" + pass.name;
+    std::vector<const Texture*> fresh;
     for (const ResourceDesc& r : pass.creates) {
+        if (fresh.size() >= maxFresh) {  // the rest on the next call
+            if (more) *more = true;
+            break;
+        }
         std::string q = l.group + "/" + r.name;
         if (!r.appliesWhen.empty() && !Condition(r.appliesWhen, *l.desc, name).holds(l.params)) {
             pool_.release(q);
@@ -332,12 +338,54 @@ void Renderer::runTechniquePass(LightSlot& slot, size_t index) {
                 break;
             }
         }
-        pool_.ensure(q, r, w, h);
+        const Resource* before = pool_.find(q);
+        const GLuint oldId = before ? before->texture.id() : 0;
+        Resource& now = pool_.ensure(q, r, w, h);
+        if (now.texture.id() && now.texture.id() != oldId) fresh.push_back(&now.texture);
     }
+    return fresh;
+}
+
+// Runs the pass through a context that checks every access against the declaration, after its
+// resources and its pipeline state.
+void Renderer::runTechniquePass(LightSlot& slot, size_t index) {
+    LightState& l = slot.state;
+    const PassDesc& pass = l.desc->passes[index];
+    std::string name = l.group + "/" + l.desc->id + "/" + pass.name;
+    std::set<std::string> declared(pass.reads.begin(), pass.reads.end());
+    for (const std::string& w : pass.writes()) declared.insert(w);
+    ensurePassResources(slot, index);
     pass.state.apply();
     PassContext ctx(frame_, &l, pool_, name, declared);
     slot.passes[index]->execute(ctx);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+int Renderer::preparePass(const std::string& pass) {
+    auto it = passSlots_.find(pass);
+    if (it == passSlots_.end()) return -1;
+    // One new texture per call: on llvmpipe allocating a frame-size float texture costs ~20 ms.
+    bool more = false;
+    std::vector<const Texture*> fresh = ensurePassResources(*it->second.first, it->second.second, 1, &more);
+    // A new texture's memory is first touched by whatever writes it first (on llvmpipe a frame-size
+    // texture's first write costs tens of ms): cleared here, that cost is not in a band of rows.
+    for (const Texture* t : fresh) {
+        const std::optional<Format> known = formatFromGL(t->format());
+        if (!known) continue;
+        const Format f = *known;
+        GLenum format = GL_RGBA, type = GL_FLOAT;
+        if (formatHasStencil(f)) format = GL_DEPTH_STENCIL, type = GL_FLOAT_32_UNSIGNED_INT_24_8_REV;
+        else if (formatIsDepth(f)) format = GL_DEPTH_COMPONENT;
+        else if (formatIsInteger(f)) format = GL_RGBA_INTEGER, type = f == Format::R32I ? GL_INT : GL_UNSIGNED_INT;
+        const GLenum channels[4] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+        const GLenum integerChannels[4] = {GL_RED_INTEGER, GL_RG_INTEGER, GL_RGB_INTEGER, GL_RGBA_INTEGER};
+        if (!formatIsDepth(f)) {
+            const int n = std::clamp(formatChannels(f), 1, 4) - 1;
+            format = formatIsInteger(f) ? integerChannels[n] : channels[n];
+        }
+        for (int level = 0; level < t->levels(); ++level) glClearTexImage(t->id(), level, format, type, nullptr);
+    }
+    return fresh.empty() ? -1 : more ? 0 : 1;
 }
 
 // ---- live state -----------------------------------------------------------------------------------------
@@ -490,6 +538,7 @@ double Renderer::refineFrame(int frame, const std::set<std::string>& requested, 
     // Pieces are pairs of rows: a band starts on an even row, so the 2x2 quads the G-buffer's
     // derivatives come from (its geometric normal) are never split.
     slicing.units = [this](const std::string& pass) { return banded_.count(pass) ? (frame_.height + 1) / 2 : 0; };
+    slicing.prepare = [this](const std::string& pass) { return preparePass(pass); };  // one texture a call
     slicing.runUnits = [this](const std::string&, int from, int to, const std::function<void()>& run) {
         const int y0 = 2 * from, y1 = std::min(frame_.height, 2 * to);
         glEnable(GL_SCISSOR_TEST);

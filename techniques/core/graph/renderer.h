@@ -3,6 +3,7 @@
 // the next frame re-runs exactly the passes that read them.
 #pragma once
 #include <glm/glm.hpp>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -128,6 +129,13 @@ private:
     void updateSources();
     void updateLightSources(LightSlot& slot);
     void runTechniquePass(LightSlot& slot, size_t pass);
+    // Allocates the pass's resources (at most `maxFresh` new textures; `more`: some are left).
+    std::vector<const Texture*> ensurePassResources(LightSlot& slot, size_t pass, size_t maxFresh = ~size_t(0),
+                                                    bool* more = nullptr);
+    // refineFrame: a banded pass's resources allocated and cleared before its first band, one new
+    // texture per call: -1 nothing to do, 0 allocated one and more are left, 1 allocated the last.
+    int preparePass(const std::string& pass);
+    std::map<std::string, std::pair<LightSlot*, size_t>> passSlots_;  // technique passes by graph name
     double timePass(const std::function<void()>& run);
     std::vector<size_t> lightIndices(int light) const;
 
