@@ -455,6 +455,9 @@ void Window::renderViews() {
         const glm::vec2 f = (glm::vec2(*state_.pickedPixel) + 0.5f) / glm::vec2(pickSize_);
         state_.pickedPixel = glm::clamp(glm::ivec2(f * glm::vec2(full)), glm::ivec2(0), full - 1);
         pickSize_ = full;
+        // The status line names the pixel as it is now, not where it was before the re-layout.
+        if (status_.rfind("picked pixel ", 0) == 0)
+            status_ = "picked pixel " + std::to_string(state_.pickedPixel->x) + "," + std::to_string(state_.pickedPixel->y);
     }
     if (state_.playing) {
         ++frameIndex_;
@@ -743,7 +746,9 @@ void Window::drawOverlay() {
             const ImVec2 t = ImGui::CalcTextSize(text.c_str());
             const float pad = 4.0f * s;
             const float x0 = alignRight ? atX - t.x - 3.0f * pad : atX + 2.0f * pad;
-            const float y0 = origin.y + 6.0f * s;
+            // At the view's bottom edge: the light's edge arrow points up from the top one (a light
+            // above the view, as on plant) and would touch labels there.
+            const float y0 = origin.y + size.y - t.y - 2.0f * pad - 6.0f * s;
             draw->AddRectFilled(ImVec2(x0, y0), ImVec2(x0 + t.x + 2 * pad, y0 + t.y + 2 * pad), rgba(0, 0, 0, 170), 3.0f * s);
             draw->AddText(ImVec2(x0 + pad, y0 + pad), rgba(255, 255, 255), text.c_str());
         };
