@@ -283,7 +283,6 @@ double PassGraph::executeSliced(const std::set<std::string>& requested, int fram
         const int units = slicing.units ? slicing.units(node.name) : 0;
         if (units <= 0) {
             double ms = timer(node.run);
-
             recordRun(node, key, frame, ms, reason);
             spent += ms;
             slicedDoneMs_ += ms;
