@@ -168,7 +168,15 @@ bool Window::rebuildScene() {
     compileShaders();
     // The reduced frames' renderer and the progressive reference's now, not at the first drag or
     // the first idle moment: each uploads the scene (~0.25 s on plant).
-    syncMirror(preview_, options.technique, state_.params, glm::max(glm::ivec2(1), size / 8));
+    // It keeps every technique's resources: one frame of each now allocates their light-space maps
+    // (a drag's first frame of a technique would otherwise, ~0.1 s on llvmpipe).
+    Renderer& preview = syncMirror(preview_, options.technique, state_.params, glm::max(glm::ivec2(1), size / kWarmDivisor));
+    for (const std::string& id : techniques_) {
+        if (id == "raytraced" || id == "reference") continue;
+        preview.setTechnique(id);
+        preview.renderFrame(0, {"image", "visibility"});
+    }
+    preview_.technique.clear();  // the next syncMirror sets the technique and parameters again
     reference_.sync(*scene_, state_.camera, state_.lights, size.x, size.y, state_.time, state_.referenceSamples,
                     state_.referenceParams);
     touch();
@@ -407,6 +415,7 @@ Renderer& Window::syncMirror(MirrorRenderer& m, const std::string& technique,
         options.height = size.y;
         options.technique = technique;
         options.cpuClock = true;
+        options.keepResources = &m == &preview_;  // the drag frames' renderer: see rebuildScene
         m.renderer = std::make_unique<Renderer>(*scene_, options);
         m.technique = technique;
         m.params.clear();
@@ -481,7 +490,9 @@ void Window::renderViews() {
     // when first needed, then adapted to what the drag's frames cost (1: the full resolution fits).
     auto factorIt = dragFactor_.find(state_.technique);
     if (factorIt == dragFactor_.end() && dragging) {
-        const int initial = estimate < 0.0 ? (software_ ? 4 : 1) : int(std::ceil(std::sqrt(estimate / budget)));
+        // Without a full frame's cost (the technique's first frame is still being refined), the
+        // divisor the drag renderer was warmed at (rebuildScene): its textures are that size.
+        const int initial = knownCost > 0.0 ? int(std::ceil(std::sqrt(knownCost / budget))) : software_ ? kWarmDivisor : 1;
         factorIt = dragFactor_.emplace(state_.technique, std::clamp(initial, 1, std::max(1, state_.reduceFactor))).first;
     }
     int unusedFactor = estimate < 0.0 ? 4 : int(std::ceil(std::sqrt(estimate / budget)));
@@ -523,7 +534,9 @@ void Window::renderViews() {
         // Adapt the drag's divisor: up as soon as a frame exceeds the budget, down when the next
         // smaller divisor would still leave a third of the budget (hysteresis: no size flicker).
         const double f = double(factor);
-        if (renderMs_ > budget) dragFactor = std::min(std::max(1, state_.reduceFactor), int(std::ceil(f * std::sqrt(renderMs_ / budget))));
+        // Up in proportion to the overrun (not its root: a drag frame's light-space passes cost the
+        // same at any size, so the area is only part of it).
+        if (renderMs_ > budget) dragFactor = std::min(std::max(1, state_.reduceFactor), int(std::ceil(f * renderMs_ / budget)));
         else if (factor > 1 && renderMs_ * (f * f) / ((f - 1) * (f - 1)) < 0.67 * budget) dragFactor = factor - 1;
     }
     if (!reduce) {

@@ -229,6 +229,7 @@ private:
     Renderer& syncMirror(MirrorRenderer& m, const std::string& technique,
                          const std::map<std::string, std::string>& params, glm::ivec2 size);
     MirrorRenderer preview_, compare_, comparePreview_;
+    static constexpr int kWarmDivisor = 8;  // the drag renderer's size at scene load: the view's / 8
     const Renderer& shownRenderer() const { return reduced_ ? *preview_.renderer : *renderer_; }
     const Renderer* shownCompare() const {
         return reduced_ ? comparePreview_.renderer.get() : compare_.renderer.get();

@@ -402,6 +402,7 @@ void Renderer::setTechnique(const std::string& id, int light) {
 }
 
 void Renderer::releaseUndeclaredResources() {
+    if (options_.keepResources) return;
     std::vector<std::string> keep;
     for (const auto& [name, r] : pool_.all())
         if (name.rfind("frame/", 0) == 0) keep.push_back(name);

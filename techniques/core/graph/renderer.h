@@ -33,6 +33,9 @@ struct RenderOptions {
     std::optional<float> lightSize;  // --light-size
     bool cpuClock = true;            // time passes on the CPU around glFinish (llvmpipe)
     bool reuse = true;               // false: every needed pass runs every frame (for timing)
+    // true: a technique switch keeps the resources of the techniques used before (the window's
+    // drag renderer: switching back allocates nothing; on llvmpipe a frame's textures cost ~0.1 s).
+    bool keepResources = false;
 };
 
 class Renderer {
