@@ -87,7 +87,7 @@ bool runPhases(const std::string& scene, const std::string& technique, const std
     // Forty frames first: hiding the panel re-lays the window out (the full-size renderer and the
     // reference reallocate at the new size, ~0.3 s on llvmpipe); the switch is timed after that.
     std::ofstream(script) << "panel off\nwait 40\ntechnique " << technique << "\nwait 12\n"
-                          << "drag-light 120 40 30\nwait 150\n";  // the refinement, then the reference
+                          << "drag-light 120 40 30\nwait 300\n";  // the refinement, then the reference (it starts 0.5 s after the input)
     std::string command = "xvfb-run -a -s '-screen 0 1920x1080x24' " + std::string(SHADOWLAB_BINARY) + " window --scene " +
                           scene + " --technique " + (technique == "hard" ? "pcf" : "hard") + " --size " + size +
                           " --script " + script.string() + " --report " +
