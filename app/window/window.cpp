@@ -165,18 +165,9 @@ bool Window::rebuildScene() {
     }
     std::string title = "shadowlab - " + scene_->name + " - " + state_.technique + "   (F1: keys)";
     glfwSetWindowTitle(window_, title.c_str());
-    compileShaders();
-    // The reduced frames' renderer and the progressive reference's now, not at the first drag or
-    // the first idle moment: each uploads the scene (~0.25 s on plant).
-    // It keeps every technique's resources: one frame of each now allocates their light-space maps
-    // (a drag's first frame of a technique would otherwise, ~0.1 s on llvmpipe).
-    Renderer& preview = syncMirror(preview_, options.technique, state_.params, glm::max(glm::ivec2(1), size / kWarmDivisor));
-    for (const std::string& id : techniques_) {
-        if (id == "raytraced" || id == "reference") continue;
-        preview.setTechnique(id);
-        preview.renderFrame(0, {"image", "visibility"});
-    }
-    preview_.technique.clear();  // the next syncMirror sets the technique and parameters again
+    compileShaders();  // on the drag frames' renderer, made now
+    // The progressive reference's renderer now too, not at the first idle moment: it uploads the
+    // scene (~0.25 s on plant).
     reference_.sync(*scene_, state_.camera, state_.lights, size.x, size.y, state_.time, state_.referenceSamples,
                     state_.referenceParams);
     touch();
@@ -184,37 +175,38 @@ bool Window::rebuildScene() {
 }
 
 void Window::compileShaders() {
-    // A small frame of every technique the window runs, on this scene (its light count is a define
-    // of the shading program): the programs land in the context's cache, so a technique switch
-    // later compiles nothing (on llvmpipe a technique's programs take 0.1-0.3 s, a frozen frame).
-    // llvmpipe also compiles a variant of each shader per texture state at its first draw, and the
-    // state holds whether a texture's sides are powers of two: the small frames take the view's
-    // pattern (1024 wide: a power of two) and that of the reduced frames (neither).
+    // One pass over every technique the window runs, on this scene (its light count is a define of
+    // the shading program), on the drag frames' renderer, which keeps every technique's resources:
+    // - the programs land in the context's cache, so a technique switch later compiles nothing (on
+    //   llvmpipe a technique's programs take 0.1-0.3 s, a frozen frame);
+    // - llvmpipe compiles a variant of each shader per texture state at its first draw, and the
+    //   state holds whether a texture's sides are powers of two: a small frame at the view's
+    //   pattern (1024 wide: a power of two), refined too (the scissored draws);
+    // - a frame at 1/kWarmDivisor of the view allocates the technique's light-space maps there, so
+    //   a drag's first frame of a technique does not (~0.1 s on llvmpipe).
     auto t0 = clock::now();
     const glm::ivec2 full = renderSize();
     auto pot = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
-    std::vector<glm::ivec2> sizes = {{pot(full.x) ? 16 : 17, pot(full.y) ? 16 : 17}};
-    if (sizes[0] != glm::ivec2(17, 17)) sizes.push_back({17, 17});
-    RenderOptions options;
-    options.cpuClock = true;
+    const glm::ivec2 pattern(pot(full.x) ? 16 : 17, pot(full.y) ? 16 : 17);
+    const glm::ivec2 warm = glm::max(glm::ivec2(1), full / kWarmDivisor);
+    const std::string current = state_.technique == "reference" ? "hard" : state_.technique;
+    Renderer& preview = syncMirror(preview_, current, state_.params, warm);
     int count = 0;
     for (const std::string& id : techniques_) {
         if (id == "raytraced" || id == "reference") continue;
-        options.technique = id;
         try {
-            options.width = sizes[0].x;
-            options.height = sizes[0].y;
-            Renderer r(*scene_, options);
-            for (const glm::ivec2& size : sizes) {
-                r.resize(size.x, size.y);
-                r.renderFrame(0, {"image", "visibility"});
-                r.refineFrame(1, {"image", "visibility"}, 1e9);  // the scissored draws too
-            }
+            preview.setTechnique(id);
+            preview.resize(pattern.x, pattern.y);
+            preview.renderFrame(0, {"image", "visibility"});
+            preview.refineFrame(1, {"image", "visibility"}, 1e9);
+            preview.resize(warm.x, warm.y);
+            preview.renderFrame(2, {"image", "visibility"});
             ++count;
         } catch (const InputError& e) {
             setStatus(id + ": " + e.what(), true);
         }
     }
+    preview_.technique.clear();  // the next syncMirror sets the technique and parameters again
     glFinish();
     std::printf("shadowlab window: compiled the shaders of %d techniques for %s in %.1f s\n", count,
                 scene_->name.c_str(), msSince(t0) / 1000.0);
@@ -481,10 +473,6 @@ void Window::renderViews() {
     const bool shot = !pendingShots_.empty();
     auto known = frameCostMs_.find(state_.technique);
     const double knownCost = known == frameCostMs_.end() ? -1.0 : known->second;
-    double estimate = knownCost;
-    // Not known yet (the technique's first full frame is being refined): what the work so far says.
-    if (estimate < 0.0 && refineProgress_ > 0.05 && refineProgress_ < 1.0 && refineVersion_ == version_)
-        estimate = refineWorkMs_ / refineProgress_;
     const bool dragging = interacting();
     // The divisor per side of the frames while dragging, by technique: from the full frame's cost
     // when first needed, then adapted to what the drag's frames cost (1: the full resolution fits).
@@ -495,8 +483,8 @@ void Window::renderViews() {
         const int initial = knownCost > 0.0 ? int(std::ceil(std::sqrt(knownCost / budget))) : software_ ? kWarmDivisor : 1;
         factorIt = dragFactor_.emplace(state_.technique, std::clamp(initial, 1, std::max(1, state_.reduceFactor))).first;
     }
-    int unusedFactor = estimate < 0.0 ? 4 : int(std::ceil(std::sqrt(estimate / budget)));
-    int& dragFactor = factorIt == dragFactor_.end() ? unusedFactor : factorIt->second;
+    int notDragging = 1;  // no divisor yet: this frame does not drag
+    int& dragFactor = factorIt == dragFactor_.end() ? notDragging : factorIt->second;
     dragFactor = std::clamp(dragFactor, 1, std::max(1, state_.reduceFactor));
     bool reduce = false;
     int factor = 1;
