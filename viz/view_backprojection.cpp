@@ -220,6 +220,8 @@ const ViewDesc& backprojectionView() {
     static const ViewDesc desc = [] {
         ViewDesc d;
         d.info.name = "backprojection";
+        // The light's square, over a caption of four lines.
+        d.aspect = [](const Renderer&, const ViewRequest&, float) { return 1.0f - 1.6f * kCaptionShare; };
         d.info.doc = "the picked pixel's light with the back-projected samples (quads) or contour edges (signed fans "
                      "from the light centre, red adds, blue removes) and the visible fraction";
         d.info.appliesTo = "techniques whose per-pixel record lists back-projected 'samples' or 'edges' "

@@ -83,7 +83,18 @@ struct ViewDesc {
     // Builds the pipelines into ctx.out (renderers, actors), fills the caption and data, and writes
     // the export when asked. renderView renders the picture afterwards.
     std::function<void(ViewContext& ctx, ViewResult& result)> build;
+    // The picture's width / height at which its panels fill it (the window gives each view a cell of
+    // this aspect) when the technique's frame has aspect `frame`; null: 4:3. Called for a request
+    // the view does not refuse.
+    std::function<float(const Renderer&, const ViewRequest&, float frame)> aspect;
 };
+
+// The share of a view's height its caption strip takes at the window's cell sizes (addCaptionStrip:
+// two or three lines under a picture ~300 px high), for the aspect rules.
+constexpr float kCaptionShare = 0.15f;
+// The aspect of `panels` frame-size images side by side, each with its colour bar beside it
+// (addImagePanelWithBar), over the caption strip.
+float framePanelsAspect(float frameAspect, int panels);
 
 // ---- pipeline pieces --------------------------------------------------------------------------------
 // A source algorithm whose output is made by a function (custom geometry: light shapes, frusta,

@@ -107,6 +107,7 @@ const ViewDesc& errorView() {
     static const ViewDesc desc = [] {
         ViewDesc d;
         d.info.name = "error";
+        d.aspect = [](const Renderer&, const ViewRequest&, float frame) { return framePanelsAspect(frame, 2); };  // signed | absolute
         d.info.doc = "signed and absolute error of the visibility against the reference, with colour bars; the caption "
                      "gives compare's RMSE, max, PSNR and SSIM over all pixels and the penumbra";
         d.info.appliesTo = "every technique (against --reference FILE, else `reference` with --reference-samples N)";

@@ -240,6 +240,8 @@ const ViewDesc& hsmView() {
     static const ViewDesc desc = [] {
         ViewDesc d;
         d.info.name = "hsm";
+        // The min and max pyramids side by side in the left 86%, over the caption.
+        d.aspect = [](const Renderer&, const ViewRequest&, float) { return 2.0f * (1.0f - kCaptionShare) / 0.86f; };
         d.info.doc = "the min/max depth pyramid (HSM) as two stacks of levels, with the texels the picked pixel's kernel "
                      "refinement visited at each step";
         d.info.appliesTo = "techniques with a pyramid internal 'hsm' (min, max): ssm-gbp06, ssm-contour";

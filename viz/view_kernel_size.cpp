@@ -93,6 +93,11 @@ const ViewDesc& kernelSizeView() {
     static const ViewDesc desc = [] {
         ViewDesc d;
         d.info.name = "kernel-size";
+        d.aspect = [](const Renderer& r, const ViewRequest& q, float frame) {  // one panel per kernel channel
+            std::vector<int> channels;
+            kernelInternal(*r.lights().at(size_t(q.light)), &channels);
+            return framePanelsAspect(frame, int(channels.size()));
+        };
         d.info.doc = "the filter kernel (penumbra size) each pixel used, as a heat map with a colour bar; background grey";
         d.info.appliesTo = "techniques with a kernel-size internal channel (pcss, sssm)";
         d.info.exportExtension = ".vti";

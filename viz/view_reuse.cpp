@@ -85,6 +85,9 @@ const ViewDesc& reuseView() {
     static const ViewDesc desc = [] {
         ViewDesc d;
         d.info.name = "reuse";
+        d.aspect = [](const Renderer& r, const ViewRequest& q, float frame) {  // one panel per reuse map
+            return framePanelsAspect(frame, int(reuseInternals(*r.lights().at(size_t(q.light))).size()));
+        };
         d.info.doc = "sssm's reuse maps (buades2015 Fig. 10) over the image with the share of rows reused per step";
         d.info.appliesTo = "techniques with reuse maps (sssm)";
         d.info.exportExtension = ".vti";

@@ -155,6 +155,8 @@ const ViewDesc& shadowMapView() {
     static const ViewDesc desc = [] {
         ViewDesc d;
         d.info.name = "shadow-map";
+        // The square map in the left 84% (62% with a picked pixel's close-up), over the caption.
+        d.aspect = [](const Renderer&, const ViewRequest& q, float) { return (1.0f - kCaptionShare) / (q.pixel ? 0.62f : 0.84f); };
         d.info.doc = "the light-view depth map with a colour bar; with --pixel the receiver's texel and the texels "
                      "the technique read for it, and a close-up";
         d.info.appliesTo = "techniques with a 'shadow_map' image internal (hard, pcf; --internal picks another depth map)";

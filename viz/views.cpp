@@ -408,6 +408,20 @@ void writeImageData(vtkImageData* data, const std::string& path) {
 // ---- rendering a view --------------------------------------------------------------------------------
 static void checkRequest(const Renderer& renderer, const ViewRequest& request);
 
+float framePanelsAspect(float frame, int panels) {
+    // Each panel: the image and its colour bar (~15% of the panel's width), over the caption strip.
+    return float(std::max(1, panels)) * frame * 1.15f * (1.0f - kCaptionShare);
+}
+
+float viewAspect(const Renderer& renderer, const ViewRequest& request, float frameAspect) {
+    const ViewDesc& view = requireView(request.view);
+    constexpr float kDefault = 4.0f / 3.0f;
+    if (!view.aspect || !viewRefusal(renderer, request).empty()) return kDefault;
+    const float frame = frameAspect > 0.0f ? frameAspect : float(renderer.width()) / float(std::max(1, renderer.height()));
+    const float a = view.aspect(renderer, request, frame);
+    return std::isfinite(a) && a > 0.0f ? std::clamp(a, 0.5f, 5.0f) : kDefault;
+}
+
 std::string viewRefusal(const Renderer& renderer, const ViewRequest& request) {
     const ViewDesc& view = requireView(request.view);
     checkRequest(renderer, request);

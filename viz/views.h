@@ -57,6 +57,12 @@ std::vector<ViewInfo> listViews();
 // An unknown view, a pixel outside the image, an unknown light or a bad ray count or zoom are
 // InputErrors.
 std::string viewRefusal(const Renderer& renderer, const ViewRequest& request);
+// The picture's width / height at which the view's panels fill it (the error view's two frame
+// images side by side: ~2x the frame's aspect; the shadow map with a close-up: ~1.4; a 3D view:
+// 4:3), for a request the view does not refuse; 4:3 when it does.
+// `frameAspect`: the technique frame's width / height the aspect is for (0: the renderer's; the
+// window passes its technique region's, so a cell's aspect does not feed back into the frame's).
+float viewAspect(const Renderer& renderer, const ViewRequest& request, float frameAspect = 0.0f);
 
 // Renders the view into a new offscreen VTK frame. Needs the renderer's GL context current (and an
 // EGL or window context: not OSMesa). Renders the frame data the view needs first (the renderer's

@@ -42,9 +42,9 @@ void Window::recordAccuracyPoint() {
     // Timing a setting runs its passes three more times (seconds for a heavy technique on llvmpipe):
     // only while the chart is open.
     if (!state_.showAccuracy) return;
-    if (accuracyGeneration_ != reference_.generation()) {
+    if (accuracyGeneration_ != ref().generation()) {
         accuracyPoints_.clear();
-        accuracyGeneration_ = reference_.generation();
+        accuracyGeneration_ = ref().generation();
     }
     // shadow_ms of this setting alone: every needed pass timed (frame numbers no normal frame uses).
     renderer_->measureCost(costFrame_, 3);

@@ -6,6 +6,7 @@
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -122,10 +123,7 @@ void Window::key(int key, int mods) {
     default:
         if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) {
             size_t i = size_t(key - GLFW_KEY_1);
-            std::vector<std::string> live;
-            for (const std::string& t : techniques_)
-                if (t != "raytraced") live.push_back(t);
-            if (i < live.size()) selectTechnique(live[i]);
+            if (i < techniques_.size()) selectTechnique(techniques_[i]);
         }
         break;
     }
@@ -242,11 +240,15 @@ void Window::scroll(double dy) {
 //   frustum on|off | ui-scale F | help on|off | panel on|off | views on|off | background on|off
 //   resize W H                 the window's size (waits 3 frames for the window system)
 //   wait N                     N frames
-//   wait-reference [MAX]       until the reference is complete (at most MAX frames, default 100000)
+//   wait-reference [MAX]       until the reference (and the progressive reference the view shows)
+//                              is complete (at most MAX frames, default 100000)
 //   screenshot FILE            the whole window, UI included, one frame later (.png, or .pfm for tests)
 //   reference-samples N        N of the progressive reference
+//   reference reference|raytraced   which progressive reference the split, error view and metrics use
+//   reference-rays M           M of the progressive ray tracer (rays per pixel)
 //   save-reference FILE.pfm    the complete reference's visibility (fails when it is not complete)
-//   save-visibility FILE.pfm   the technique's visibility of the last frame
+//   save-visibility FILE.pfm   the technique's visibility of the last frame (reference, raytraced:
+//                              the complete progressive one)
 namespace {
 
 int keyCode(const std::string& name) {
@@ -292,6 +294,7 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         {"ui-scale", {1, 1}}, {"help", {1, 1}},      {"present", {1, 1}},    {"panel", {1, 1}},      {"views", {1, 1}}, {"accuracy", {1, 1}}, {"save-accuracy", {1, 1}},
         {"background", {1, 1}}, {"resize", {2, 2}},  {"wait", {1, 1}},       {"wait-reference", {0, 1}},
         {"screenshot", {1, 1}}, {"reference-samples", {1, 1}}, {"save-reference", {1, 1}},
+        {"reference", {1, 1}}, {"reference-rays", {1, 1}},
         {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}, {"view", {1, 1}}, {"close-view", {1, 1}},
         {"lesson", {1, 1}}};
     for (int line = 1; std::getline(in, text); ++line) {
@@ -347,6 +350,12 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         } else if (c.verb == "drag-light") {
             for (size_t i = 0; i < 3; ++i) number(c.args[i]);
             if (number(c.args[2]) < 1) throw InputError(where + "a drag takes at least 1 frame");
+        } else if (c.verb == "reference") {
+            if (c.args[0] != "reference" && c.args[0] != "raytraced")
+                throw InputError(where + "reference: expected reference or raytraced, got '" + c.args[0] + "'");
+        } else if (c.verb == "reference-rays") {
+            if (number(c.args[0]) < 1 || number(c.args[0]) > 65536 || number(c.args[0]) != std::floor(number(c.args[0])))
+                throw InputError(where + "reference-rays: expected a whole number in 1..65536, got '" + c.args[0] + "'");
         } else if (c.verb == "reference-samples") {
             if (number(c.args[0]) < 1 || number(c.args[0]) > 65536) throw InputError(where + "expected 1..65536 samples");
         } else if (c.verb == "scroll" || c.verb == "split-at" || c.verb == "ui-scale" || c.verb == "wait" ||
@@ -400,7 +409,9 @@ void Window::runScriptStep() {
     }
     if (scriptWaitReference_ > 0) {
         --scriptWaitReference_;
-        if (!reference_.complete() || referenceVersion_ != version_ || interacting()) return;
+        const bool refDone = !referenceNeeded() || ref().complete();
+        const bool shownDone = !shownSource() || shownSource()->complete();
+        if (!refDone || !shownDone || referenceVersion_ != version_ || interacting()) return;
         scriptWaitReference_ = 0;
     }
     while (!script_.empty()) {
@@ -437,13 +448,19 @@ void Window::runScriptStep() {
         else if (c.verb == "view") openView(a[0]);
         else if (c.verb == "close-view") closeView(a[0]);
         else if (c.verb == "reference-samples") setReferenceSamples(std::stoi(a[0]));
+        else if (c.verb == "reference") setReferenceTechnique(a[0]);
+        else if (c.verb == "reference-rays") setReferenceRays(std::stoi(a[0]));
         else if (c.verb == "save-reference" || c.verb == "save-visibility") {
-            if (c.verb == "save-reference" && !(reference_.complete() && referenceVersion_ == version_)) {
-                setStatus(scriptPath_ + ":" + std::to_string(c.line) + ": save-reference: the reference is not complete", true);
+            // The technique view showing a progressive reference saves that one (complete).
+            const ProgressiveSource* source = c.verb == "save-reference" ? &ref() : shownSource();
+            if (source && !(source->complete() && referenceVersion_ == version_)) {
+                setStatus(scriptPath_ + ":" + std::to_string(c.line) + ": " + c.verb + ": the " +
+                              (c.verb == "save-reference" ? state_.referenceTechnique : state_.technique) + " is not complete",
+                          true);
                 scriptFailed_ = true;
             } else {
                 OutputSet outputs;
-                writePFM(outputs.stage(a[0]), c.verb == "save-reference" ? reference_.visibility() : renderer_->visibility());
+                writePFM(outputs.stage(a[0]), source ? source->visibility() : renderer_->visibility());
                 outputs.commit();
             }
         }

@@ -7,7 +7,8 @@
 //   - "reference" is the window's progressive reference (the `reference` technique's stratified
 //     samples, N from the lesson's `reference reference samples=N`); a task that reads it completes
 //     it at once (a pause of a few seconds on llvmpipe) so the check sees the finished integral.
-//     Another reference technique (raytraced) is rendered once, synchronously, for the check.
+//     "raytraced" is the window's progressive ray tracer (M from the step's `reference raytraced
+//     rays=M`, its default otherwise): a task's check waits for it to complete.
 //   - the lesson-only views `visibility` and `reference` are the technique view itself and the
 //     split against the reference; `shadow-map-texels` opens the `shadow-map` view.
 #include "gl/loader.h"  // before GLFW, which must not include GL/gl.h
@@ -33,15 +34,7 @@ public:
         if (w_.state_.scene != name || !w_.scene_) w_.selectScene(name);
     }
     void setTechnique(const std::string& id) override {
-        // raytraced takes seconds per frame on the CPU: the window shows the progressive reference,
-        // the same integral (a lesson's "two references agree" step shows one of the two live).
-        if (id == "raytraced") {
-            w_.selectTechnique("reference");
-            w_.setStatus("lesson: raytraced is shown as the progressive reference in the window (`shadowlab render "
-                         "--technique raytraced` renders it)");
-            return;
-        }
-        w_.selectTechnique(id);  // parameters start at their defaults
+        w_.selectTechnique(id);  // parameters start at their defaults (raytraced: the progressive ray tracer)
     }
     void setParam(const std::string& key, const std::string& value) override {
         // The window shows `reference` as its progressive reference: N and its shadow-map settings
@@ -59,7 +52,18 @@ public:
                       const std::vector<std::pair<std::string, std::string>>& params) override {
         referenceTechnique_ = technique;
         referenceParams_ = params;
+        if (technique == "raytraced") {
+            // Exactly the step's M, else the technique's default.
+            w_.setReferenceTechnique("raytraced");
+            const ParamDesc* rays = requireTechnique("raytraced", "lesson").findParam("rays");
+            int m = rays ? int(rays->defaultValue) : 256;
+            for (const auto& [key, value] : params)
+                if (key == "rays") m = std::stoi(value);
+            w_.setReferenceRays(m);
+            return;
+        }
         if (technique != "reference") return;
+        w_.setReferenceTechnique("reference");
         // Exactly the step's settings: what it does not name goes back to the reference's defaults.
         w_.state_.referenceParams.clear();
         w_.touch();
@@ -105,6 +109,19 @@ public:
         TaskBuffers b;
         b.visibility = r.visibility();
         b.ids = r.ids();
+        // The technique view showing a progressive reference: its complete visibility.
+        if (w_.state_.technique == "raytraced") {
+            w_.raytrace_.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
+                              w_.state_.referenceRays);
+            w_.raytrace_.finish();
+            b.visibility = w_.raytrace_.visibility();
+        } else if (w_.state_.technique == "reference") {
+            w_.reference_.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
+                               w_.state_.referenceSamples, w_.state_.referenceParams);
+            while (!w_.reference_.complete()) w_.reference_.step(1e9);
+            b.visibility = w_.reference_.visibility();
+        }
+        w_.referenceVersion_ = w_.version_;
         if (!withReference) return b;
         if (referenceTechnique_ == "reference") {
             ProgressiveReference& ref = w_.reference_;
@@ -112,6 +129,13 @@ public:
                      w_.state_.referenceSamples, w_.state_.referenceParams);
             w_.referenceVersion_ = w_.version_;
             while (!ref.complete()) ref.step(1e9);
+            b.reference = ref.visibility();
+        } else if (referenceTechnique_ == "raytraced") {
+            ProgressiveRaytrace& ref = w_.raytrace_;
+            ref.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
+                     w_.state_.referenceRays);
+            w_.referenceVersion_ = w_.version_;
+            ref.finish();
             b.reference = ref.visibility();
         } else {
             RenderOptions options;

@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <numeric>
 
 #include "shared/shared.h"
+#include "visibility/raytracer.h"
 #include "window/window.h"
 
 namespace shadowlab {
@@ -21,15 +21,6 @@ bool sameLight(const Light& a, const Light& b) {
            a.size == b.size && a.color == b.color && a.intensity == b.intensity && a.castsShadows == b.castsShadows;
 }
 
-// The order the samples run in: k -> (k * stride) mod n with stride coprime to n near n / golden
-// ratio, so any prefix spreads over the whole light (the strata are numbered row by row: in index
-// order the first samples all sit on one edge). The complete sum is the same set of samples.
-uint32_t sampleOrder(uint32_t k, uint32_t n) {
-    uint32_t stride = std::max(1u, uint32_t(double(n) * 0.6180339887));
-    while (std::gcd(stride, n) != 1) ++stride;
-    return uint32_t((uint64_t(k) * stride) % n);
-}
-
 bool sameCamera(const Camera& a, const Camera& b) {
     return a.position == b.position && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees &&
            a.nearPlane == b.nearPlane && a.farPlane == b.farPlane;
@@ -37,11 +28,16 @@ bool sameCamera(const Camera& a, const Camera& b) {
 
 }  // namespace
 
+void ProgressiveSource::restarted() {
+    static uint64_t next = 0;  // the GL thread's: sources restart there
+    generation_ = ++next;
+}
+
 void ProgressiveReference::cancel() {
     renderer_.reset();
     scene_ = nullptr;
     done_ = total_ = 0;
-    ++generation_;
+    restarted();
 }
 
 bool ProgressiveReference::isDepthParam(const std::string& key) {
@@ -54,7 +50,7 @@ void ProgressiveReference::sync(const Scene& scene, const Camera& camera, const 
                 time == time_ && samples == total_ && lights.size() == lights_.size() && depthParams == depthParams_;
     for (size_t i = 0; same && i < lights.size(); ++i) same = sameLight(lights[i], lights_[i]);
     if (same) return;
-    ++generation_;
+    restarted();
     if (!renderer_ || scene_ != &scene || depthParams != depthParams_) {
         depthParams_ = depthParams;
         renderer_.reset();
@@ -112,7 +108,7 @@ int ProgressiveReference::step(double budgetMs) {
             sampleWeight_ = 0.0;
             for (size_t i = 0; i < lights_.size(); ++i) {
                 const Light& l = lights_[i];
-                glm::vec3 sample = shared::stratifiedSample(sampleOrder(uint32_t(done_), uint32_t(total_)),
+                glm::vec3 sample = shared::stratifiedSample(spreadSampleOrder(uint32_t(done_), uint32_t(total_)),
                                                             uint32_t(total_), uint32_t(i + 1));
                 Light at = l;
                 if (!l.isPoint())

@@ -140,12 +140,10 @@ void Window::drawUi() {
         if (ImGui::CollapsingHeader("Technique", ImGuiTreeNodeFlags_DefaultOpen)) {
             for (const std::string& id : techniques_) {
                 const TechniqueDesc* d = findTechnique(id);
-                bool live = id != "raytraced";
-                if (!live) ImGui::BeginDisabled();
                 if (ImGui::Selectable(id.c_str(), id == state_.technique)) selectTechnique(id);
-                if (!live) ImGui::EndDisabled();
-                tooltip(live ? d->name + "\n" + d->citation + "\n" + d->summary
-                             : "the CPU ray tracer takes seconds per frame: use `shadowlab render --technique raytraced`");
+                tooltip(d->name + "\n" + d->citation + "\n" + d->summary +
+                        (id == "raytraced" ? "\nin the window: rays traced on a worker thread, shown as they accumulate"
+                                           : ""));
             }
         }
 
@@ -155,6 +153,7 @@ void Window::drawUi() {
             const LightState* ls = lights.empty() ? nullptr : lights[size_t(std::clamp(state_.lightIndex, 0, int(lights.size()) - 1))];
             ParamValues values = ls && ls->requested == desc ? ls->requestedParams : ParamValues(*desc);
             if (state_.technique == "reference") values.set(*desc, "samples", std::to_string(state_.referenceSamples), "window");
+            if (state_.technique == "raytraced") values.set(*desc, "rays", std::to_string(state_.referenceRays), "window");
             std::map<std::string, std::string> inapplicable;
             for (const auto& [k, reason] : values.inapplicable(*desc)) inapplicable[k] = reason;
             if (ls && ls->desc != ls->requested)
@@ -246,13 +245,25 @@ void Window::drawUi() {
 
         if (ImGui::CollapsingHeader("Reference", ImGuiTreeNodeFlags_DefaultOpen)) {
             ImGui::Checkbox("compute in the background (B)", &state_.backgroundReference);
-            tooltip("N stratified light samples of `reference`, a few per frame while the input is idle; "
-                    "restarts when the scene, camera, light or size change");
-            int n = state_.referenceSamples;
-            if (ImGui::SliderInt("samples N", &n, 16, 4096, "%d", ImGuiSliderFlags_Logarithmic)) setReferenceSamples(n);
-            float fraction = reference_.total() > 0 ? float(reference_.done()) / float(reference_.total()) : 0.0f;
+            tooltip("accumulated while the input is idle; restarts when the scene, camera, light or size change");
+            int kind = state_.referenceTechnique == "raytraced" ? 1 : 0;
+            bool changed = ImGui::RadioButton("reference", &kind, 0);
+            tooltip("N stratified light samples of `reference` (hard shadow maps), a few per frame on the GPU");
+            ImGui::SameLine();
+            changed |= ImGui::RadioButton("raytraced", &kind, 1);
+            tooltip("M stratified rays per pixel of `raytraced` (Embree), traced on a worker thread");
+            if (changed) setReferenceTechnique(kind == 1 ? "raytraced" : "reference");
+            if (kind == 0) {
+                int n = state_.referenceSamples;
+                if (ImGui::SliderInt("samples N", &n, 16, 4096, "%d", ImGuiSliderFlags_Logarithmic)) setReferenceSamples(n);
+            } else {
+                int m = state_.referenceRays;
+                if (ImGui::SliderInt("rays M", &m, 1, 4096, "%d", ImGuiSliderFlags_Logarithmic)) setReferenceRays(m);
+            }
+            const ProgressiveSource& reference = ref();
+            float fraction = reference.total() > 0 ? float(reference.done()) / float(reference.total()) : 0.0f;
             char overlay[64];
-            std::snprintf(overlay, sizeof overlay, "%d / %d samples", reference_.done(), reference_.total());
+            std::snprintf(overlay, sizeof overlay, "%d / %d %s", reference.done(), reference.total(), reference.unit());
             ImGui::ProgressBar(fraction, ImVec2(-1, 0), overlay);
         }
 
@@ -290,8 +301,8 @@ void Window::drawUi() {
         ImGui::SetNextWindowBgAlpha(0.88f);
         ImGui::Begin("##hud", nullptr,
                      ImGuiWindowFlags_NoDecoration | fixed | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
-        bool currentMetrics = metricsAll_ && metricsGeneration_ == reference_.generation() && metricsVersion_ == version_ &&
-                              reference_.complete();
+        bool currentMetrics = metricsAll_ && metricsGeneration_ == ref().generation() && metricsVersion_ == version_ &&
+                              ref().complete();
         if (state_.presentation) {  // the technique, shadow_ms and RMSE, nothing else
             if (statsValid_) ImGui::Text("%s   shadow_ms %.1f", state_.technique.c_str(), stats_.value("shadow_ms", 0.0));
             else ImGui::Text("%s   shadow_ms once a frame is complete", state_.technique.c_str());
@@ -312,7 +323,9 @@ void Window::drawUi() {
                         "dragging, then refined at full resolution in slices over the next frames (README)");
             }
             if (state_.technique == "reference") {
-                ImGui::Text("progressive: %.1f ms per light sample", reference_.lastSampleMs());
+                ImGui::Text("progressive: %.1f ms per light sample", ref().lastSampleMs());
+            } else if (state_.technique == "raytraced") {
+                ImGui::Text("progressive: %.0f ms per batch (worker)", ref().lastSampleMs());
             } else {
                 if (statsValid_)
                     ImGui::Text("shadow_ms %.2f   fixed_ms %.2f", stats_.value("shadow_ms", 0.0), stats_.value("fixed_ms", 0.0));
@@ -340,17 +353,18 @@ void Window::drawUi() {
                 }
             }
             ImGui::Text("UI %.0f fps (frame %.1f ms, render %.1f ms)", uiFps_, frameMs_, renderMs_);
-            if (reference_.active()) {
-                float fraction = reference_.total() > 0 ? float(reference_.done()) / float(reference_.total()) : 0.0f;
+            if (ref().active()) {
+                float fraction = ref().total() > 0 ? float(ref().done()) / float(ref().total()) : 0.0f;
                 char overlay[64];
-                std::snprintf(overlay, sizeof overlay, "reference %d / %d", reference_.done(), reference_.total());
+                std::snprintf(overlay, sizeof overlay, "%s %d / %d %s", state_.referenceTechnique.c_str(), ref().done(),
+                              ref().total(), ref().unit());
                 ImGui::ProgressBar(fraction, ImVec2(220 * s, 0), overlay);
             }
             if (currentMetrics) {
                 ImGui::Text("RMSE %.4f  PSNR %.1f dB   (all %zu px)", metricsAll_->rmse, metricsAll_->psnr, metricsAll_->pixels);
                 ImGui::Text("RMSE %.4f  PSNR %.1f dB   (penumbra %zu px)", metricsPenumbra_->rmse, metricsPenumbra_->psnr,
                             metricsPenumbra_->pixels);
-            } else if (state_.technique != "reference") {
+            } else if (!showsReference()) {
                 ImGui::TextDisabled("RMSE / PSNR once the reference is complete");
             }
             if (state_.pickedPixel) ImGui::Text("picked pixel %d, %d", state_.pickedPixel->x, state_.pickedPixel->y);
@@ -366,7 +380,7 @@ void Window::drawUi() {
                                                   stops[i + 1], stops[i + 1], stops[i]);
                 ImGui::Dummy(ImVec2(w, h));
                 ImGui::Text("|V - V_ref|: 0 .. %.2f", state_.errorScale);
-                if (!(reference_.active() && reference_.done() > 0)) ImGui::TextDisabled("waiting for the reference");
+                if (!(ref().active() && ref().done() > 0)) ImGui::TextDisabled("waiting for the reference");
             }
             ImGui::End();
         }

@@ -64,16 +64,16 @@ void Window::updateViews() {
             h = std::max(48, int(layout_.cells[index].h - band));
         }
         bool error = v->name == "error";
-        bool haveReference = reference_.complete() && referenceVersion_ == version_;
+        bool haveReference = ref().complete() && referenceVersion_ == version_;
         std::vector<double> key = {double(version_), double(pixel.x), double(pixel.y), v->azimuth, v->elevation,
                                    v->zoom, double(w), double(h),
-                                   error ? double(haveReference ? reference_.generation() : ~0ull) : 0.0};
+                                   error ? double(haveReference ? ref().generation() : ~0ull) : 0.0};
         if (key == v->renderedKey) continue;
         v->renderedKey = key;
         if (error && !haveReference) {
             v->valid = false;
-            v->refusal = "waiting for the reference (" + std::to_string(reference_.done()) + " / " +
-                         std::to_string(reference_.total()) + " samples; B turns it on)";
+            v->refusal = "waiting for the reference (" + std::to_string(ref().done()) + " / " +
+                         std::to_string(ref().total()) + " " + ref().unit() + "; B turns it on)";
             continue;
         }
         ViewRequest request;
@@ -86,9 +86,9 @@ void Window::updateViews() {
         request.elevation = v->elevation;
         request.zoom = v->zoom;
         if (error) {
-            if (referenceImageGeneration_ != reference_.generation()) {
-                referenceImage_ = reference_.visibility();
-                referenceImageGeneration_ = reference_.generation();
+            if (referenceImageGeneration_ != ref().generation()) {
+                referenceImage_ = ref().visibility();
+                referenceImageGeneration_ = ref().generation();
             }
             request.reference = &referenceImage_;
         }

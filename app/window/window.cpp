@@ -21,6 +21,7 @@
 #include "lesson/lesson.h"
 #include "lesson/player.h"
 #include "scene/light_view.h"
+#include "views.h"
 #include "vtk_offscreen.h"
 #include "window/camera_control.h"
 #include "window/window.h"
@@ -62,8 +63,10 @@ Window::Window(GLFWwindow* window, WindowState state, bool software)
     scenes_ = listScenes();
     present_ = ShaderProgram("common/fullscreen.vert", "window/present.frag");
     errorDummy_ = Texture::create2D(1, 1, Format::R32F);
-    if (const TechniqueDesc* ref = findTechnique("reference"))
-        if (const ParamDesc* p = ref->findParam("samples")) state_.referenceSamples = int(p->defaultValue);
+    if (const TechniqueDesc* reference = findTechnique("reference"))
+        if (const ParamDesc* p = reference->findParam("samples")) state_.referenceSamples = int(p->defaultValue);
+    if (const TechniqueDesc* raytraced = findTechnique("raytraced"))
+        if (const ParamDesc* p = raytraced->findParam("rays")) state_.referenceRays = int(p->defaultValue);
     updateLayout();
     if (!rebuildScene()) throw InputError("window: " + status_);
 }
@@ -107,8 +110,39 @@ void Window::updateLayout() {
     in.hud = state_.showHud;
     in.lesson = lesson_ != nullptr;
     in.present = state_.presentation;
-    // Each view renders at its cell's size (views_panel.cpp), the chart at its own aspect.
-    if (state_.showViews) in.cellAspects.assign(views_.size(), 4.0f / 3.0f);
+    // Each view renders at its cell's size (views_panel.cpp), at the view's own aspect (viewAspect:
+    // the error view's two frame images side by side are ~2x the frame's), the chart at its own.
+    // The aspects are taken again only when what they depend on changes (the views, the technique,
+    // the pick, the light), not when the frame's size does: a cell's aspect feeding back into the
+    // frame's size would re-lay the window out frame after frame. The frame aspect they are for is
+    // the technique region's without the views.
+    if (state_.showViews) {
+        const WindowLayout bare = computeWindowLayout(in);
+        const float frameAspect = bare.technique.h > 0.0f ? bare.technique.w / bare.technique.h : 4.0f / 3.0f;
+        char frameText[32];
+        std::snprintf(frameText, sizeof frameText, "|%.3f", frameAspect);
+        std::string key = state_.technique + "|" + std::to_string(state_.lightIndex) + (state_.pickedPixel ? "|pick" : "|") + frameText;
+        for (const auto& v : views_) key += "|" + v->name;
+        if (key != viewAspectKey_ && renderer_) {
+            viewAspects_.clear();
+            for (const auto& v : views_) {
+                ViewRequest request;
+                request.view = v->name;
+                request.pixel = state_.pickedPixel;
+                if (request.pixel) *request.pixel = glm::clamp(*request.pixel, glm::ivec2(0), glm::ivec2(renderer_->width(), renderer_->height()) - 1);
+                request.light = std::clamp(state_.lightIndex, 0, std::max(0, int(renderer_->lights().size()) - 1));
+                float aspect = 4.0f / 3.0f;
+                try {
+                    aspect = viewAspect(*renderer_, request, frameAspect);
+                } catch (const InputError&) {
+                }
+                viewAspects_.push_back(aspect);
+            }
+            viewAspectKey_ = key;
+        }
+        in.cellAspects = viewAspects_;
+        in.cellAspects.resize(views_.size(), 4.0f / 3.0f);
+    }
     if (state_.showAccuracy) in.cellAspects.push_back(560.0f / 380.0f);
     layout_ = computeWindowLayout(in);
 }
@@ -144,6 +178,7 @@ bool Window::rebuildScene() {
     compare_ = MirrorRenderer();
     comparePreview_ = MirrorRenderer();
     reference_.cancel();
+    raytrace_.cancel();  // joins its worker before the old scene goes
     renderer_.reset();
     scene_ = std::move(scene);
     state_.camera = scene_->camera;
@@ -153,7 +188,7 @@ bool Window::rebuildScene() {
     glm::ivec2 size = renderSize();
     options.width = size.x;
     options.height = size.y;
-    options.technique = state_.technique == "reference" ? "hard" : state_.technique;
+    options.technique = showsReference() ? "hard" : state_.technique;
     options.cpuClock = true;
     renderer_ = std::make_unique<Renderer>(*scene_, options);
     for (const auto& [key, value] : state_.params) {
@@ -168,8 +203,7 @@ bool Window::rebuildScene() {
     compileShaders();  // on the drag frames' renderer, made now
     // The progressive reference's renderer now too, not at the first idle moment: it uploads the
     // scene (~0.25 s on plant).
-    reference_.sync(*scene_, state_.camera, state_.lights, size.x, size.y, state_.time, state_.referenceSamples,
-                    state_.referenceParams);
+    syncReference(size);
     touch();
     return true;
 }
@@ -189,7 +223,7 @@ void Window::compileShaders() {
     auto pot = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
     const glm::ivec2 pattern(pot(full.x) ? 16 : 17, pot(full.y) ? 16 : 17);
     const glm::ivec2 warm = glm::max(glm::ivec2(1), full / kWarmDivisor);
-    const std::string current = state_.technique == "reference" ? "hard" : state_.technique;
+    const std::string current = showsReference() ? "hard" : state_.technique;
     Renderer& preview = syncMirror(preview_, current, state_.params, warm);
     int count = 0;
     for (const std::string& id : techniques_) {
@@ -233,15 +267,10 @@ void Window::selectTechnique(const std::string& id) {
         setStatus("unknown technique '" + id + "'", true);
         return;
     }
-    if (id == "raytraced") {
-        setStatus("raytraced is the CPU ray tracer (seconds per frame): use `shadowlab render --technique raytraced`",
-                  true);
-        return;
-    }
     state_.technique = id;
     statsValid_ = false;
     state_.params.clear();  // setTechnique starts at the technique's defaults
-    renderer_->setTechnique(id == "reference" ? "hard" : id);
+    renderer_->setTechnique(showsReference() ? "hard" : id);
     std::string title = "shadowlab - " + scene_->name + " - " + id + "   (F1: keys)";
     glfwSetWindowTitle(window_, title.c_str());
     setStatus("technique " + id);
@@ -249,6 +278,22 @@ void Window::selectTechnique(const std::string& id) {
 }
 
 void Window::setParam(const std::string& key, const std::string& value) {
+    if (state_.technique == "raytraced") {
+        if (key != "rays") {
+            setStatus("the progressive ray tracer has no '" + key + "' (it takes rays)", true);
+            return;
+        }
+        try {
+            const TechniqueDesc& raytraced = *findTechnique("raytraced");
+            ParamValues check(raytraced);
+            check.set(raytraced, key, value, "window");
+            setReferenceRays(check.getInt("rays"));
+            state_.params[key] = value;
+        } catch (const InputError& e) {
+            setStatus(e.what(), true);
+        }
+        return;
+    }
     if (state_.technique == "reference") {
         if (key == "samples") {
             try {
@@ -346,6 +391,37 @@ void Window::setReferenceSamples(int samples) {
     touch();
 }
 
+void Window::setReferenceTechnique(const std::string& id) {
+    if (id != "reference" && id != "raytraced") {
+        setStatus("the window's references are reference and raytraced, not '" + id + "'", true);
+        return;
+    }
+    if (id == state_.referenceTechnique) return;
+    if (shownSource() != &ref()) ref().cancel();  // unless the view shows it
+    state_.referenceTechnique = id;
+    touch();
+}
+
+void Window::setReferenceRays(int rays) {
+    state_.referenceRays = std::clamp(rays, 1, 65536);
+    touch();
+}
+
+bool Window::referenceNeeded() const {
+    return state_.backgroundReference || state_.compare == WindowState::Compare::Reference || state_.errorView;
+}
+
+void Window::syncReference(glm::ivec2 size) {
+    const bool needed = referenceNeeded();
+    auto inUse = [&](const ProgressiveSource& s) { return shownSource() == &s || (needed && &ref() == &s); };
+    if (inUse(raytrace_)) raytrace_.sync(*scene_, state_.camera, state_.lights, size.x, size.y, state_.time, state_.referenceRays);
+    else if (raytrace_.active()) raytrace_.cancel();
+    if (inUse(reference_))
+        reference_.sync(*scene_, state_.camera, state_.lights, size.x, size.y, state_.time, state_.referenceSamples,
+                        state_.referenceParams);
+    else if (reference_.active()) reference_.cancel();
+}
+
 void Window::setReferenceParam(const std::string& key, const std::string& value) {
     try {
         if (!ProgressiveReference::isDepthParam(key))
@@ -376,7 +452,7 @@ void Window::setPresentation(bool on) {
 void Window::cycleTechnique(int step) {
     std::vector<std::string> live;
     for (const std::string& t : techniques_)
-        if (t != "raytraced") live.push_back(t);
+        if (t != "raytraced") live.push_back(t);  // T stays on the GPU's techniques; raytraced: panel, key 8
     auto it = std::find(live.begin(), live.end(), state_.technique);
     size_t i = it == live.end() ? 0 : size_t(it - live.begin());
     selectTechnique(live[(i + live.size() + size_t(step + int(live.size()))) % live.size()]);
@@ -500,7 +576,7 @@ void Window::renderViews() {
     const glm::ivec2 size = reduce ? glm::max(glm::ivec2(1), full / factor) : full;
     if (renderer_->width() != full.x || renderer_->height() != full.y) renderer_->resize(full.x, full.y);
     if (reduce && !dragging) previewVersion_ = version_;
-    const std::string rendered = state_.technique == "reference" ? "hard" : state_.technique;
+    const std::string rendered = showsReference() ? "hard" : state_.technique;
     const glm::ivec2 previewBefore = preview_.renderer ? glm::ivec2(preview_.renderer->width(), preview_.renderer->height()) : glm::ivec2(0);
     Renderer& target = reduce ? syncMirror(preview_, rendered, state_.params, size) : *renderer_;
     // A frame right after a resize pays for new textures: it says nothing about the divisor.
@@ -551,35 +627,41 @@ void Window::renderViews() {
     }
     imageComplete_ = refineProgress_ >= 1.0 && compareComplete;
 
-    bool needReference = state_.backgroundReference || state_.compare == WindowState::Compare::Reference ||
-                         state_.errorView || state_.technique == "reference";
-    if (!needReference) {
+    if (!referenceNeeded() && !showsReference()) {
         if (reference_.active()) reference_.cancel();
+        if (raytrace_.active()) raytrace_.cancel();
     } else if (!interacting() && imageComplete_ && pendingShots_.empty() &&
                (std::chrono::duration<double>(clock::now() - lastInput_).count() > 0.5 || scriptWaitReference_ > 0)) {
         // Half a second without input first (a pause between two drags should not wait for a
         // sample), and only once the technique's frame is complete: the reference gets what is left
         // of the budget, each of its samples refined in slices too.
-        reference_.sync(*scene_, state_.camera, state_.lights, full.x, full.y, state_.time, state_.referenceSamples,
-                        state_.referenceParams);
+        const auto c1 = clock::now();
+        syncReference(full);
         referenceVersion_ = version_;
-        reference_.step(std::max(1.0, budget - spent));
+        // The one the view shows first, then the reference (the ray tracer's step only uploads a
+        // finished batch: its rays run on the worker thread).
+        ProgressiveSource* first = shownSource();
+        if (first) first->step(std::max(1.0, budget - spent - msSince(c1)));
+        if (referenceNeeded() && &ref() != first) ref().step(std::max(1.0, budget - spent - msSince(c1)));
     }
     updateMetrics();
 }
 
 void Window::updateMetrics() {
-    if (!reference_.complete() || referenceVersion_ != version_ || reduced_ || !imageComplete_ ||
-        state_.technique == "reference")
+    // A technique view showing a progressive reference is measured once it is complete (raytraced
+    // against reference: intro's "two references agree"); against itself, not at all.
+    const ProgressiveSource* shown = shownSource();
+    if (!ref().complete() || referenceVersion_ != version_ || reduced_ || !imageComplete_ || shown == &ref() ||
+        (shown && !shown->complete()))
         return;
-    if (metricsGeneration_ == reference_.generation() && metricsVersion_ == version_) return;
-    Image test = renderer_->visibility();
-    Image ref = reference_.visibility();
-    if (test.width != ref.width || test.height != ref.height) return;
-    metricsAll_ = computeMetrics(test, ref);
-    std::vector<uint8_t> mask = penumbraMask(ref);
-    metricsPenumbra_ = computeMetrics(test, ref, &mask);
-    metricsGeneration_ = reference_.generation();
+    if (metricsGeneration_ == ref().generation() && metricsVersion_ == version_) return;
+    Image test = shown ? shown->visibility() : renderer_->visibility();
+    Image reference = ref().visibility();
+    if (test.width != reference.width || test.height != reference.height) return;
+    metricsAll_ = computeMetrics(test, reference);
+    std::vector<uint8_t> mask = penumbraMask(reference);
+    metricsPenumbra_ = computeMetrics(test, reference, &mask);
+    metricsGeneration_ = ref().generation();
     metricsVersion_ = version_;
     recordAccuracyPoint();
 }
@@ -592,26 +674,29 @@ void Window::present() {
     const glm::ivec2 window = framebufferSize();
     const Renderer& shown = shownRenderer();
     glm::ivec2 size(shown.width(), shown.height());
-    bool referenceShown = reference_.active() && reference_.done() > 0 && referenceVersion_ == version_;
+    bool referenceShown = ref().active() && ref().done() > 0 && referenceVersion_ == version_;
+    // The technique view showing a progressive reference: its sums, once it has a first sample.
+    const ProgressiveSource* source = shownSource();
+    const bool sourceShown = source && source->active() && source->done() > 0 && referenceVersion_ == version_;
     GLuint a = shown.imageTexture().id(), b = a;
     float scaleA = 1.0f, scaleB = 1.0f;
     int mode = 0;
-    if (state_.technique == "reference" && referenceShown) {
-        a = reference_.imageSum().id();
-        scaleA = reference_.normalization();
-        size = glm::ivec2(reference_.imageSum().width(), reference_.imageSum().height());
+    if (sourceShown) {
+        a = source->imageSum().id();
+        scaleA = source->normalization();
+        size = glm::ivec2(source->imageSum().width(), source->imageSum().height());
     }
     if (state_.errorView) {
         if (referenceShown) {
-            a = shown.pool().find("frame/visibility")->texture.id();
-            b = reference_.visibilitySum().id();
-            scaleA = 1.0f;
-            scaleB = reference_.normalization();
+            a = sourceShown ? source->visibilitySum().id() : shown.pool().find("frame/visibility")->texture.id();
+            scaleA = sourceShown ? source->normalization() : 1.0f;
+            b = ref().visibilitySum().id();
+            scaleB = ref().normalization();
             mode = 2;
         }
     } else if (state_.compare == WindowState::Compare::Reference && referenceShown) {
-        b = reference_.imageSum().id();
-        scaleB = reference_.normalization();
+        b = ref().imageSum().id();
+        scaleB = ref().normalization();
         mode = 1;
     } else if (state_.compare == WindowState::Compare::Technique && shownCompare()) {
         b = shownCompare()->imageTexture().id();
@@ -620,11 +705,12 @@ void Window::present() {
     if (mode != 0) size = fb;  // two images (possibly of two sizes) meet at the split: compose at window size
     // The reference's progress changes the picture only where the reference is shown.
     const bool referenceInView = mode == 2 || (mode == 1 && state_.compare == WindowState::Compare::Reference) ||
-                                 state_.technique == "reference";
+                                 showsReference();
     std::vector<double> key = {double(version_), double(frameIndex_), double(a), double(b), double(mode),
                                double(size.x), double(size.y), state_.split, state_.errorScale,
-                               referenceInView ? double(reference_.done()) : 0.0,
-                               referenceInView ? double(reference_.generation()) : 0.0,
+                               referenceInView ? double(ref().done()) : 0.0,
+                               referenceInView ? double(ref().generation()) : 0.0,
+                               source ? double(source->done()) : 0.0, source ? double(source->generation()) : 0.0,
                                renderMs_ > 0.5 ? double(++presentCount_) : 0.0};
     // While the full-size frame is refined over several frames its textures are half old, half
     // new: the view keeps the last complete picture (a reduced preview, scaled up) until it is done.
@@ -742,7 +828,7 @@ void Window::drawOverlay() {
         draw->AddLine(ImVec2(x, origin.y), ImVec2(x, origin.y + size.y), rgba(255, 255, 255, 220), 2.0f * s);
         draw->AddCircleFilled(ImVec2(x, origin.y + size.y * 0.5f), 8.0f * s, rgba(255, 255, 255, 220));
         // Which side is which, on the image: the left technique's name, the right one's.
-        const std::string right = state_.compare == WindowState::Compare::Reference ? "reference" : state_.compareTechnique;
+        const std::string right = state_.compare == WindowState::Compare::Reference ? state_.referenceTechnique : state_.compareTechnique;
         auto label = [&](const std::string& text, float atX, bool alignRight) {
             const ImVec2 t = ImGui::CalcTextSize(text.c_str());
             const float pad = 4.0f * s;
@@ -856,7 +942,10 @@ std::string Window::lastFrameReport() const {
                      {"refine_progress", refineProgress_}, {"complete", imageComplete_ && !reduced_},
                      {"budget_ms", renderBudgetMs()},
                      {"interacting", interacting()}, {"render_size", {size.x, size.y}},
-                     {"reference_samples", reference_.done()},
+                     {"reference_samples", ref().done()}, {"reference_total", ref().total()},
+                     {"shown_samples", shownSource() ? shownSource()->done() : 0},
+                     {"shown_total", shownSource() ? shownSource()->total() : 0},
+                     {"reference_technique", state_.referenceTechnique},
                      {"window", {windowSize().x, windowSize().y}}, {"layout", layout_.toJson()},
                      {"technique", state_.technique},
                      {"phases_ms", {{"ui", phaseMs_[0]}, {"render_and_reference", phaseMs_[1]}, {"present", phaseMs_[2]},
@@ -922,9 +1011,7 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
     std::vector<std::string> techniques;
     for (const TechniqueDesc* d : allTechniques()) techniques.push_back(d->id);
     state.technique = techniques[indexOf(techniques, opts.get("--technique", "pcf"), "--technique")];
-    if (state.technique == "raytraced")
-        throw InputError("window: --technique raytraced: the CPU ray tracer takes seconds per frame; use "
-                         "`shadowlab render --technique raytraced`");
+    if (state.technique == "raytraced" || state.technique == "reference") state.referenceTechnique = state.technique;
     int width = 1024, height = 768;
     if (opts.has("--size")) parseSize(opts.get("--size"), width, height);
     std::string screenshot = opts.get("--screenshot");

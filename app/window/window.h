@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "chart_accuracy_time.h"
@@ -32,6 +33,7 @@ struct GLFWwindow;
 namespace shadowlab {
 
 class VtkOffscreen;
+class RayTracer;
 struct Lesson;
 class LessonPlayer;
 class LessonHost;
@@ -40,7 +42,7 @@ class WindowLessonHost;
 // What the user sees and has chosen: the single source of truth for the UI, keys, scripts, lessons.
 struct WindowState {
     std::string scene;      // a name in assets/scenes, or a path to a .json scene or a .gltf/.glb file
-    std::string technique;  // "reference" shows the progressive reference
+    std::string technique;  // "reference" / "raytraced" show that progressive reference
     std::map<std::string, std::string> params;  // parameters set away from the defaults (key -> value)
     int lightIndex = 0;     // the light the light controls edit
     Camera camera;          // the current camera (starts at the scene's)
@@ -60,6 +62,11 @@ struct WindowState {
     int reduceFactor = 16;                  // at most 1/16 per side (the factor adapts to the frames' cost)
     bool backgroundReference = true;        // accumulate the reference whenever the input is idle
     int referenceSamples = 1024;            // N of `reference` (its descriptor's default)
+    // The reference the split, the error view, the metrics and a lesson's check read: "reference"
+    // (light samples on the GPU) or "raytraced" (rays on a worker thread). Selecting either as the
+    // technique selects it here too.
+    std::string referenceTechnique = "reference";
+    int referenceRays = 256;                // M of `raytraced` (its descriptor's default)
     // The reference's shadow-map settings away from its defaults (sm_size, bias_const, bias_slope,
     // plane_test): a lesson's `reference reference ...` or the panel with `reference` selected.
     std::map<std::string, std::string> referenceParams;
@@ -70,32 +77,58 @@ struct WindowState {
     std::vector<std::string> openViews;  // VTK views shown in the views panel (viz/views.h names)
 };
 
+// A reference the window accumulates while the input is idle, restarted by any change of what it
+// depends on: the progressive `reference` (light samples on the GL thread, in slices of the frame
+// budget) or the progressive `raytraced` (rays on a worker thread). The split's reference side, the
+// error view, the HUD metrics and a lesson's check read whichever the state selects.
+class ProgressiveSource {
+public:
+    virtual ~ProgressiveSource() = default;
+    virtual void cancel() = 0;
+    // Work on the GL thread for at most `budgetMs` of wall time; returns the units it completed.
+    virtual int step(double budgetMs) = 0;
+    virtual bool active() const = 0;
+    bool complete() const { return active() && done() >= total(); }
+    virtual int done() const = 0;   // units accumulated (light samples, rays per pixel)
+    virtual int total() const = 0;
+    virtual const char* unit() const = 0;  // "samples", "rays"
+    virtual double lastSampleMs() const = 0;  // what the last unit (or batch) cost
+    uint64_t generation() const { return generation_; }  // changes on every restart, unique across sources
+    virtual Image visibility() const = 0;  // the estimate so far (1 channel; a read-back)
+    // The estimate's sums (the mean is sum x normalization()): linear shaded image (RGBA32F) and
+    // visibility (R32F).
+    virtual const Texture& imageSum() const = 0;
+    virtual const Texture& visibilitySum() const = 0;
+    virtual float normalization() const = 0;
+
+protected:
+    void restarted();  // a new generation
+    uint64_t generation_ = 0;
+};
+
 // The reference of the current state, accumulated a few light samples per frame: N stratified light
 // samples (the same points as the `reference` technique), each a hard shadow of the light at that
 // point, weighted by its stratum's area. Any change of the state it depends on restarts it.
-class ProgressiveReference {
+class ProgressiveReference : public ProgressiveSource {
 public:
     // Restarts when the scene, camera, lights, size or time differ from the running accumulation.
     void sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width, int height,
               double time, int samples, const std::map<std::string, std::string>& depthParams = {});
     // The `reference` parameters each sample's hard frame takes (the rest is the sample count).
     static bool isDepthParam(const std::string& key);
-    void cancel();
+    void cancel() override;
     // Runs light samples until `budgetMs` of wall time is spent (at least one piece of one sample's
     // frame: a sample that does not fit is refined over several calls); returns how many completed.
-    int step(double budgetMs);
-    bool active() const { return renderer_ != nullptr; }
-    bool complete() const { return active() && done_ >= total_; }
-    int done() const { return done_; }
-    int total() const { return total_; }
-    double lastSampleMs() const { return lastSampleMs_; }
-    uint64_t generation() const { return generation_; }  // bumps on every restart
-    Image visibility() const;  // the weighted mean so far (1 channel; a read-back)
-    // The weighted sums (the mean is sum x normalization()): linear shaded image (RGBA32F, alpha =
-    // the weights) and visibility (R32F).
-    const Texture& imageSum() const { return imageSum_; }
-    const Texture& visibilitySum() const { return visibilitySum_; }
-    float normalization() const { return weightSum_ > 0.0 ? float(1.0 / weightSum_) : 0.0f; }
+    int step(double budgetMs) override;
+    bool active() const override { return renderer_ != nullptr; }
+    int done() const override { return done_; }
+    int total() const override { return total_; }
+    const char* unit() const override { return "samples"; }
+    double lastSampleMs() const override { return lastSampleMs_; }
+    Image visibility() const override;  // the weighted mean so far
+    const Texture& imageSum() const override { return imageSum_; }  // alpha = the weights
+    const Texture& visibilitySum() const override { return visibilitySum_; }
+    float normalization() const override { return weightSum_ > 0.0 ? float(1.0 / weightSum_) : 0.0f; }
 
 private:
     std::unique_ptr<Renderer> renderer_;
@@ -107,10 +140,57 @@ private:
     double time_ = 0.0, weightSum_ = 0.0, lastSampleMs_ = 0.0;
     bool sampleStarted_ = false;  // sample done_'s lights are set; its frame may span calls
     double sampleWeight_ = 0.0, sampleMs_ = 0.0;
-    uint64_t generation_ = 0;
     Texture imageSum_, visibilitySum_;
     Framebuffer sums_;
     ShaderProgram accumulate_;
+};
+
+// `raytraced` in the window (issue 18): the M stratified rays per pixel of the `raytraced` technique
+// (RayTracer, the same rays and weights), traced in batches of rays per pixel on a worker thread
+// while the GL thread keeps the UI's rate. The G-buffer is read back once per restart; after each
+// batch the GL thread uploads every light's estimate and re-shades with the shade pass's own math
+// (Renderer::shadeWith). Complete, its visibility equals `render --technique raytraced` (test:
+// WindowRaytrace.*). The worker runs one thread at a lower priority.
+class ProgressiveRaytrace : public ProgressiveSource {
+public:
+    ProgressiveRaytrace();
+    ~ProgressiveRaytrace() override;  // stops and joins the worker
+    // Restarts when the scene, camera, lights, size, time or M differ from the running trace.
+    void sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width, int height,
+              double time, int rays);
+    void cancel() override;
+    // The G-buffer (in slices of the budget) and the worker's start after a restart; then each
+    // batch the worker finished, uploaded and shaded. Returns the batches shown.
+    int step(double budgetMs) override;
+    bool active() const override { return renderer_ != nullptr; }
+    int done() const override { return shown_; }
+    int total() const override { return total_; }
+    const char* unit() const override { return "rays"; }
+    double lastSampleMs() const override;
+    Image visibility() const override;
+    const Texture& imageSum() const override;
+    const Texture& visibilitySum() const override;
+    float normalization() const override { return 1.0f; }
+    // Blocks until the trace is complete (a lesson's check): steps, sleeping while the worker works.
+    void finish();
+    struct Job;  // what the worker reads and publishes (raytrace.cpp)
+
+private:
+    // Stops the running worker (it ends at its next row); joins the finished ones, or all (`wait`).
+    void stopWorker(bool wait);
+    std::unique_ptr<Renderer> renderer_;
+    const Scene* scene_ = nullptr;
+    Camera camera_;
+    std::vector<Light> lights_;
+    int width_ = 0, height_ = 0, total_ = 0, rays_ = 0, shown_ = 0;
+    double time_ = 0.0;
+    bool started_ = false;  // the worker runs for this generation
+    double lastBatchMs_ = 0.0;
+    std::shared_ptr<Job> job_;
+    std::thread worker_;
+    std::vector<std::pair<std::shared_ptr<Job>, std::thread>> retired_;  // stopped workers not joined yet
+    std::shared_ptr<const RayTracer> tracer_;  // the BVH of (scene_, time_), reused by the next restart
+    std::vector<Texture> lightVisibility_;     // per light, the estimate uploaded (R32F)
 };
 
 struct ScriptCommand {
@@ -235,6 +315,26 @@ private:
         return reduced_ ? comparePreview_.renderer.get() : compare_.renderer.get();
     }
     ProgressiveReference reference_;
+    ProgressiveRaytrace raytrace_;  // after scene_: destroyed (its worker joined) before the scene
+    // The reference state_.referenceTechnique selects: the split's right side, the error view, the
+    // metrics, a lesson's check.
+    ProgressiveSource& ref() { return state_.referenceTechnique == "raytraced" ? static_cast<ProgressiveSource&>(raytrace_) : reference_; }
+    const ProgressiveSource& ref() const { return const_cast<Window*>(this)->ref(); }
+    // The technique view shows a progressive reference itself (technique "reference" or "raytraced"):
+    // that one, whichever the split compares it with (intro's "two references agree": raytraced
+    // against reference).
+    bool showsReference() const { return state_.technique == "reference" || state_.technique == "raytraced"; }
+    ProgressiveSource* shownSource() {
+        if (state_.technique == "raytraced") return &raytrace_;
+        return state_.technique == "reference" ? &reference_ : nullptr;
+    }
+    const ProgressiveSource* shownSource() const { return const_cast<Window*>(this)->shownSource(); }
+    bool referenceNeeded() const;  // the split, the error view, the metrics in the background need ref()
+    // Brings the progressive sources in use (the shown one, the reference when needed) to the state
+    // at `size`; the others stop.
+    void syncReference(glm::ivec2 size);
+    void setReferenceTechnique(const std::string& id);  // "reference" or "raytraced"
+    void setReferenceRays(int rays);                    // M of the progressive ray tracer (restarts it)
     ShaderProgram present_;
     WindowLayout layout_;
     float normalUiScale_ = 1.0f;
@@ -308,6 +408,8 @@ private:
         float azimuth = 0.0f, elevation = 0.0f, zoom = 1.0f;
     };
     std::vector<std::unique_ptr<OpenView>> views_;
+    std::vector<float> viewAspects_;  // each open view's cell aspect (viewAspect), for viewAspectKey_
+    std::string viewAspectKey_;
     void syncViewList();
     void updateViews();
     std::vector<AccuracyTimePoint> accuracyPoints_;

@@ -2,6 +2,8 @@
 // section 5), on a hand-built scene so the test depends on neither the scene loader nor GL.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -227,4 +229,70 @@ TEST(RayTracer, EmptySceneIsLit) {
     floorGBuffer(positions, normals);
     Image v = tracer.visibility(positions, normals, scene.lights[0], 4);
     for (float value : v.data) EXPECT_EQ(value, 1.0f);
+}
+
+// The window's progressive ray tracer: batches of samples taken in spreadSampleOrder, added to
+// SampleSums, give visibility()'s result once they cover all M (the same rays and weights; only
+// the order of the doubles' additions differs: at most a float ulp), and every partial estimate is
+// a visibility. The spread order is a permutation of the M strata.
+TEST(RayTracer, BatchesOfSpreadSamplesSumToTheWholeTrace) {
+    for (uint32_t n : {1u, 2u, 16u, 37u, 256u}) {
+        std::vector<bool> seen(n, false);
+        for (uint32_t k = 0; k < n; ++k) seen[spreadSampleOrder(k, n)] = true;
+        EXPECT_EQ(std::count(seen.begin(), seen.end(), true), int(n)) << "M = " << n;
+    }
+    Scene scene = squareOccluderScene();
+    RayTracer tracer(scene, 0.0);
+    Image positions, normals;
+    floorGBuffer(positions, normals);
+    const int rays = 37;  // not a square: the strata's last row is partial
+    const Image whole = tracer.visibility(positions, normals, scene.lights[0], rays);
+    SampleSums sums;
+    sums.reset(kGrid, kGrid, rays);
+    double firstError = 0.0;
+    uint32_t first = 0;
+    for (uint32_t count : {1u, 3u, 7u, 100u}) {
+        tracer.traceSamples(positions, normals, scene.lights[0], rays, first, count, sums, true);
+        first = std::min<uint32_t>(rays, first + count);
+        EXPECT_EQ(sums.traced, first);
+        Image partial = sums.image();
+        double error = 0.0;
+        for (size_t i = 0; i < partial.data.size(); ++i) {
+            ASSERT_TRUE(partial.data[i] >= 0.0f && partial.data[i] <= 1.0f);
+            error += std::abs(partial.data[i] - whole.data[i]);
+        }
+        if (first == 1) firstError = error;
+        if (first == uint32_t(rays)) EXPECT_LT(error, firstError);  // the estimate converged
+    }
+    ASSERT_TRUE(sums.complete());
+    const Image done = sums.image();
+    double maxDiff = 0.0;
+    size_t penumbra = 0;
+    for (size_t i = 0; i < done.data.size(); ++i) {
+        maxDiff = std::max(maxDiff, double(std::abs(done.data[i] - whole.data[i])));
+        if (whole.data[i] > 0.01f && whole.data[i] < 0.99f) ++penumbra;
+    }
+    EXPECT_LT(maxDiff, 1e-6);  // 37 weights summed in two orders in double, then rounded to float
+    EXPECT_GT(penumbra, 200u);  // a real penumbra, not a trivially equal pair
+    // Umbra and lit pixels are exact whatever the order: every sample agrees.
+    EXPECT_EQ(done.at(kGrid / 2, kGrid / 2), 0.0f);
+    EXPECT_EQ(done.at(0, 0), 1.0f);
+}
+
+// A cancelled batch leaves the sums as they were said to be: `traced` does not move, so the next
+// batch is refused rather than summing a half-traced one.
+TEST(RayTracer, ACancelledBatchDoesNotCount) {
+    Scene scene = squareOccluderScene();
+    RayTracer tracer(scene, 0.0);
+    Image positions, normals;
+    floorGBuffer(positions, normals);
+    SampleSums sums;
+    sums.reset(kGrid, kGrid, 16);
+    std::atomic<bool> cancel{true};
+    tracer.traceSamples(positions, normals, scene.lights[0], 16, 0, 4, sums, true, &cancel);
+    EXPECT_EQ(sums.traced, 0u);
+    EXPECT_THROW(tracer.traceSamples(positions, normals, scene.lights[0], 16, 4, 4, sums, true), std::exception);
+    SampleSums wrong;
+    wrong.reset(kGrid, kGrid, 8);  // M of another trace
+    EXPECT_THROW(tracer.traceSamples(positions, normals, scene.lights[0], 16, 0, 4, wrong, true), std::exception);
 }

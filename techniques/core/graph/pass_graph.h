@@ -71,6 +71,9 @@ public:
     // Forgets every cached output: the next execute() runs everything needed (--no-reuse, to time
     // every pass of a static scene in every frame).
     void invalidate();
+    // Forgets one pass's cached outputs (something outside the graph rewrote them): the next
+    // execute() that needs them runs it again.
+    void invalidatePass(const std::string& name);
 
     // ---- progressive execution (the window's frame budget) ----
     // A pass the graph may run a part at a time: `units(pass)` pieces of work (the renderer's

@@ -273,30 +273,58 @@ void Renderer::buildGraph() {
     // Shading and the combined visibility in one pass (DESIGN.md section 3):
     // v = sum_l v_l E_l / sum_l E_l, image = albedo * (ambient + sum_l v_l * direct_l).
     graph_.addPass("shade", "frame", "", shadeInputs, {"visibility", "image"}, {}, [this] {
-        PipelineState::fullscreen().apply();
-        std::vector<std::string> defines = {"LIGHT_COUNT " + std::to_string(lights_.size())};
-        const ShaderProgram& program = programs_.get("common/fullscreen.vert", "common/shade.frag", defines);
-        program.use();
-        for (size_t i = 0; i < lights_.size(); ++i) {
-            const LightSlot& slot = *lights_[i];
-            const Light& light = slot.state.light;
-            std::string idx = "[" + std::to_string(i) + "]";
-            program.set(("lightPositions" + idx).c_str(), light.position);
-            program.set(("lightRadiance" + idx).c_str(), light.color * light.intensity);
-            const Resource* v = light.castsShadows ? pool_.find(slot.state.group + "/visibility") : nullptr;
-            glBindTextureUnit(GLuint(3 + i), v ? v->texture.id() : white_.id());
-            program.set(("lightVisibility" + idx).c_str(), int(3 + i));
+        std::vector<const Texture*> visibility;
+        for (const auto& slot : lights_) {
+            const Resource* v = slot->state.light.castsShadows ? pool_.find(slot->state.group + "/visibility") : nullptr;
+            visibility.push_back(v ? &v->texture : nullptr);
         }
-        PassContext ctx(frame_, nullptr, pool_, "shade", {"gbuffer", "ambient"});
-        ctx.bindGBuffer(program);
-        const GLuint shadingUnit = GLuint(3 + lights_.size());
-        glBindTextureUnit(shadingUnit, ctx.gbuffer().shadingNormal->id());
-        program.set("gShadingNormal", int(shadingUnit));
-        program.set("ambient", ctx.ambient());
-        shadeFbo_.bind(frame_.width, frame_.height);
-        drawFullscreenTriangle();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        shade(visibility);
     });
+}
+
+void Renderer::shade(const std::vector<const Texture*>& visibility) {
+    PipelineState::fullscreen().apply();
+    std::vector<std::string> defines = {"LIGHT_COUNT " + std::to_string(lights_.size())};
+    const ShaderProgram& program = programs_.get("common/fullscreen.vert", "common/shade.frag", defines);
+    program.use();
+    for (size_t i = 0; i < lights_.size(); ++i) {
+        const Light& light = lights_[i]->state.light;
+        std::string idx = "[" + std::to_string(i) + "]";
+        program.set(("lightPositions" + idx).c_str(), light.position);
+        program.set(("lightRadiance" + idx).c_str(), light.color * light.intensity);
+        const Texture* v = i < visibility.size() ? visibility[i] : nullptr;
+        glBindTextureUnit(GLuint(3 + i), v ? v->id() : white_.id());
+        program.set(("lightVisibility" + idx).c_str(), int(3 + i));
+    }
+    PassContext ctx(frame_, nullptr, pool_, "shade", {"gbuffer", "ambient"});
+    ctx.bindGBuffer(program);
+    const GLuint shadingUnit = GLuint(3 + lights_.size());
+    glBindTextureUnit(shadingUnit, ctx.gbuffer().shadingNormal->id());
+    program.set("gShadingNormal", int(shadingUnit));
+    program.set("ambient", ctx.ambient());
+    shadeFbo_.bind(frame_.width, frame_.height);
+    drawFullscreenTriangle();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Renderer::shadeWith(int frame, const std::vector<const Texture*>& visibility) {
+    if (visibility.size() != lights_.size()) {
+        throw InternalError("Renderer::shadeWith: " + std::to_string(visibility.size()) + " visibility textures for " +
+                            std::to_string(lights_.size()) + " lights");
+    }
+    for (const Texture* v : visibility) {
+        if (v && (v->width() != frame_.width || v->height() != frame_.height)) {
+            throw InternalError("Renderer::shadeWith: a visibility texture of " + std::to_string(v->width()) + "x" +
+                                std::to_string(v->height()) + " for a frame of " + std::to_string(frame_.width) + "x" +
+                                std::to_string(frame_.height));
+        }
+    }
+    renderFrame(frame, {"gbuffer"});
+    std::vector<const Texture*> own(visibility);
+    for (size_t i = 0; i < lights_.size(); ++i)
+        if (!lights_[i]->state.light.castsShadows) own[i] = nullptr;  // visibility 1, as the shade pass
+    shade(own);
+    graph_.invalidatePass("shade");  // image and visibility no longer hold the graph's shading
 }
 
 // Allocates the pass's resources from their declarations (reallocates what changed size or

@@ -56,6 +56,12 @@ public:
     // whole; the others run whole. At 1 the outputs equal renderFrame's (test: RefineFrame.*).
     // Reuse stays on whatever RenderOptions::reuse says.
     double refineFrame(int frame, const std::set<std::string>& requested, double budgetMs);
+    // Shades frame `frame`'s G-buffer with `visibility[i]` (R32F at the frame's size, one per light)
+    // as light i's visibility in place of its technique's (a light that casts no shadow keeps 1):
+    // the window's progressive ray tracer re-shades each batch of rays with the shade pass's own
+    // math. Runs the G-buffer when stale; image() and visibility() then hold this shading, and the
+    // next frame that needs them runs the shade pass again.
+    void shadeWith(int frame, const std::vector<const Texture*>& visibility);
     // The passes refineFrame runs in bands (their names in the graph).
     const std::set<std::string>& bandedPasses() const { return banded_; }
 
@@ -132,6 +138,7 @@ private:
     void updateSources();
     void updateLightSources(LightSlot& slot);
     void runTechniquePass(LightSlot& slot, size_t pass);
+    void shade(const std::vector<const Texture*>& visibility);  // the shade pass (null: visibility 1)
     // Allocates the pass's resources (at most `maxFresh` new textures; `more`: some are left).
     std::vector<const Texture*> ensurePassResources(LightSlot& slot, size_t pass, size_t maxFresh = ~size_t(0),
                                                     bool* more = nullptr);

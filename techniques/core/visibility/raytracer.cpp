@@ -19,6 +19,7 @@
 #include <exception>
 #include <limits>
 #include <mutex>
+#include <numeric>
 #include <string>
 #include <thread>
 #include <vector>
@@ -172,8 +173,51 @@ size_t RayTracer::triangleCount() const { return impl_->triangles; }
 
 void RayTracer::setThreadCount(unsigned threads) { impl_->threads = threads; }
 
+uint32_t spreadSampleOrder(uint32_t k, uint32_t n) {
+    if (n <= 1) return 0;
+    uint32_t stride = std::max(1u, uint32_t(double(n) * 0.6180339887));
+    while (std::gcd(stride, n) != 1) ++stride;
+    return uint32_t((uint64_t(k) * stride) % n);
+}
+
+void SampleSums::reset(int w, int h, uint32_t samples) {
+    width = w;
+    height = h;
+    total = samples;
+    traced = 0;
+    const size_t n = size_t(w) * size_t(h);
+    visible.assign(n, 0.0);
+    weight.assign(n, 0.0);
+    occluded.assign(n, 0u);
+}
+
+float SampleSums::value(size_t i) const {
+    if (traced == 0) return 1.0f;
+    // All samples agree: exactly 0 or 1, without the rounding of the summed weights.
+    if (occluded[i] == 0) return 1.0f;
+    if (occluded[i] >= traced) return 0.0f;
+    if (complete()) return float(std::clamp(visible[i], 0.0, 1.0));
+    return weight[i] > 0.0 ? float(std::clamp(visible[i] / weight[i], 0.0, 1.0)) : 1.0f;
+}
+
+Image SampleSums::image() const {
+    Image out(width, height, 1, 1.0f);
+    for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = value(i);
+    return out;
+}
+
 Image RayTracer::visibility(const Image& positions, const Image& normals, const Light& light, int rays,
                             const std::function<void(size_t, size_t)>& progress) const {
+    SampleSums sums;
+    const uint32_t samples = light.isPoint() ? 1u : uint32_t(std::max(rays, 1));
+    sums.reset(positions.width, positions.height, samples);
+    traceSamples(positions, normals, light, rays, 0, samples, sums, false, nullptr, progress);
+    return sums.image();
+}
+
+void RayTracer::traceSamples(const Image& positions, const Image& normals, const Light& light, int rays,
+                             uint32_t first, uint32_t count, SampleSums& sums, bool spread,
+                             const std::atomic<bool>* cancel, const std::function<void(size_t, size_t)>& progress) const {
     if (positions.channels < 3 || normals.channels < 3) {
         throw InternalError("RayTracer::visibility: positions and normals need 3+ channels, got " +
                             std::to_string(positions.channels) + " and " + std::to_string(normals.channels));
@@ -189,9 +233,19 @@ Image RayTracer::visibility(const Image& positions, const Image& normals, const 
 
     const int width = positions.width;
     const int height = positions.height;
-    Image result(width, height, 1, 1.0f);
     const bool point = light.isPoint();
     const uint32_t samples = point ? 1u : uint32_t(rays);
+    if (sums.width != width || sums.height != height || sums.total != samples) {
+        throw InternalError("RayTracer::traceSamples: sums of " + std::to_string(sums.width) + "x" +
+                            std::to_string(sums.height) + " with M = " + std::to_string(sums.total) + " for " +
+                            std::to_string(width) + "x" + std::to_string(height) + " with M = " + std::to_string(samples));
+    }
+    if (first != sums.traced) {
+        throw InternalError("RayTracer::traceSamples: batch from sample " + std::to_string(first) + " after " +
+                            std::to_string(sums.traced) + " traced");
+    }
+    if (first >= samples) return;
+    const uint32_t last = uint32_t(std::min<uint64_t>(uint64_t(first) + count, samples));
     const int shape = int(light.shape);
     const glm::vec3 centre = light.position;
     const glm::vec3 right = point ? glm::vec3(0.0f) : light.right();
@@ -199,20 +253,22 @@ Image RayTracer::visibility(const Image& positions, const Image& normals, const 
     const float sceneDiagonal = impl_->sceneDiagonal;
     RTCScene scene = impl_->scene;
 
-    // Visibility of one pixel: the weighted fraction of its light samples that no caster hides.
+    // One pixel's samples [first, last): the weights of those no caster hides, added to its sums.
     auto shadePixel = [&](RTCIntersectContext& context, int x, int y) {
+        const size_t index = size_t(y) * width + x;
         const glm::vec3 p(positions.at(x, y, 0), positions.at(x, y, 1), positions.at(x, y, 2));
-        if (!finite3(p)) return 1.0f;  // background (DESIGN.md section 6)
+        if (!finite3(p)) return;  // background (DESIGN.md section 6): no sample is hidden
         glm::vec3 n(normals.at(x, y, 0), normals.at(x, y, 1), normals.at(x, y, 2));
         const bool hasNormal = finite3(n) && glm::dot(n, n) > 0.0f;
         if (hasNormal) n = glm::normalize(n);
         const float offset = shadowRayOffset(sceneDiagonal, p);
         // The seed is a hash of the pixel index: noise is uncorrelated between pixels yet fixed.
-        const uint32_t seed = shared::pcgHash(uint32_t(size_t(y) * width + x));
+        const uint32_t seed = shared::pcgHash(uint32_t(index));
 
-        double visible = 0.0;
-        uint32_t occluded = 0;
-        for (uint32_t i = 0; i < samples; ++i) {
+        double visible = sums.visible[index], traced = sums.weight[index];
+        uint32_t occluded = sums.occluded[index];
+        for (uint32_t k = first; k < last; ++k) {
+            const uint32_t i = spread ? spreadSampleOrder(k, samples) : k;
             glm::vec3 sample = centre;
             float weight = 1.0f;
             if (!point) {
@@ -220,6 +276,7 @@ Image RayTracer::visibility(const Image& positions, const Image& normals, const 
                 sample = shared::lightSamplePosition(centre, right, up, shape, light.size, glm::vec2(uvw.x, uvw.y));
                 weight = uvw.z;
             }
+            traced += weight;
             glm::vec3 toLight = sample - p;
             // The visibility convention: a sample behind the receiver's tangent plane is hidden by
             // the receiver's own surface; no ray is cast for it.
@@ -259,10 +316,9 @@ Image RayTracer::visibility(const Image& positions, const Image& normals, const 
                 visible += weight;
             }
         }
-        // All samples agree: exactly 0 or 1, without the rounding of the summed weights.
-        if (occluded == 0) return 1.0f;
-        if (occluded == samples) return 0.0f;
-        return float(std::clamp(visible, 0.0, 1.0));
+        sums.visible[index] = visible;
+        sums.weight[index] = traced;
+        sums.occluded[index] = occluded;
     };
 
     const size_t total = size_t(width) * height;
@@ -278,7 +334,11 @@ Image RayTracer::visibility(const Image& positions, const Image& normals, const 
             RTCIntersectContext context;
             rtcInitIntersectContext(&context);
             for (int y = nextRow++; y < height; y = nextRow++) {
-                for (int x = 0; x < width; ++x) result.at(x, y) = shadePixel(context, x, y);
+                if (cancel && cancel->load(std::memory_order_relaxed)) {
+                    nextRow = height;  // the batch is abandoned: the others stop too
+                    break;
+                }
+                for (int x = 0; x < width; ++x) shadePixel(context, x, y);
                 donePixels += size_t(width);
             }
         } catch (...) {
@@ -326,8 +386,9 @@ Image RayTracer::visibility(const Image& positions, const Image& normals, const 
     if (code != RTC_ERROR_NONE) {
         throw InternalError(std::string("Embree: tracing shadow rays: ") + embreeErrorName(code));
     }
+    if (cancel && cancel->load()) return;  // partial: `traced` says the batch did not land
+    sums.traced = last;
     if (progress) progress(total, total);
-    return result;
 }
 
 }  // namespace shadowlab
