@@ -134,6 +134,14 @@ void PassGraph::invalidate() {
     invalidated_ = true;
 }
 
+void PassGraph::invalidatePass(const std::string& name) {
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        if (nodes_[i].name != name) continue;
+        nodes_[i].hasRun = false;
+        if (partial_.node == i) partial_ = Partial();
+    }
+}
+
 std::vector<bool> PassGraph::needed(const std::set<std::string>& requested) const {
     // Walk back from the requested outputs (their latest versions) through the inputs.
     std::vector<bool> need(nodes_.size(), false);
