@@ -21,8 +21,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <mutex>
+
+#include "gl/loader.h"
 
 #include "error.h"
 #include "visibility/raytracer.h"
@@ -58,7 +61,9 @@ struct ProgressiveRaytrace::Job {
     double time = 0.0;
     std::vector<Light> lights;
     int rays = 1;
-    Image positions, normals;
+    int width = 0, height = 0;
+    std::unique_ptr<float[]> rawPositions, rawNormals;  // the G-buffer's RGBA32F rows, GL's order (bottom first)
+    Image positions, normals;                     // made from them by the worker
     std::shared_ptr<const RayTracer> tracer;  // the last job's, when the scene and time are the same
     // The worker's output, under `mutex`.
     std::atomic<bool> cancel{false}, finished{false};
@@ -104,12 +109,28 @@ void ProgressiveRaytrace::cancel() {
     scene_ = nullptr;
     shown_ = total_ = 0;
     started_ = false;
+    live_ = false;
     restarted();
+}
+
+void ProgressiveRaytrace::pause() {
+    if (!live_) return;
+    stopWorker(false);
+    restarted();
+    shown_ = 0;
+    started_ = false;
+    readRows_ = 0;
+    live_ = false;
+}
+
+void ProgressiveRaytrace::resizeRenderer(int width, int height) {
+    if (!renderer_ || live_ || (renderer_->width() == width && renderer_->height() == height)) return;
+    renderer_->resize(width, height);
 }
 
 void ProgressiveRaytrace::sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width,
                                int height, double time, int rays) {
-    bool same = renderer_ && scene_ == &scene && sameCamera(camera, camera_) && width == width_ && height == height_ &&
+    bool same = renderer_ && live_ && scene_ == &scene && sameCamera(camera, camera_) && width == width_ && height == height_ &&
                 time == time_ && rays == rays_ && lights.size() == lights_.size();
     for (size_t i = 0; same && i < lights.size(); ++i) same = sameLight(lights[i], lights_[i]);
     if (same) return;
@@ -141,20 +162,50 @@ void ProgressiveRaytrace::sync(const Scene& scene, const Camera& camera, const s
         if (l.castsShadows) total_ = std::max(total_, int(samplesOf(l, rays)));
     shown_ = 0;
     started_ = false;
+    readRows_ = 0;
+    live_ = true;
 }
 
 int ProgressiveRaytrace::step(double budgetMs) {
-    if (!renderer_ || complete()) return 0;
+    if (!active() || complete()) return 0;
     const int frame = int(time_ * 30.0 + 0.5);  // t = frame / 30, as the reference
     if (!started_) {
-        if (renderer_->refineFrame(frame, {"gbuffer"}, std::max(0.5, budgetMs)) < 1.0) return 0;
+        // The G-buffer in slices, then its positions and normals read back in bands of rows (a
+        // whole read-back of two float images cost ~0.2 s on llvmpipe at 774x557), each call
+        // within the budget; the worker starts once every row is in.
+        const auto t0 = std::chrono::steady_clock::now();
+        if (readRows_ == 0 && renderer_->refineFrame(frame, {"gbuffer"}, std::max(0.5, budgetMs)) < 1.0) return 0;
+        const Texture& position = renderer_->pool().find("frame/gbuffer.position")->texture;
+        const Texture& normal = renderer_->pool().find("frame/gbuffer.normal")->texture;
+        const size_t rowFloats = size_t(width_) * 4;
+        if (readRows_ == 0) {  // uninitialised: the pages are first touched by the bands' reads
+            rawPositions_.reset(new float[rowFloats * size_t(height_)]);
+            rawNormals_.reset(new float[rowFloats * size_t(height_)]);
+        }
+        while (readRows_ < height_) {
+            const double left = budgetMs - msSince(t0);
+            if (left <= 0.0 && readRows_ > 0) return 0;
+            const int rows = std::clamp(msPerRow_ > 0.0 ? int(left / msPerRow_) : 16, 1, height_ - readRows_);
+            const auto r0 = std::chrono::steady_clock::now();
+            const GLsizei bytes = GLsizei(rowFloats * size_t(rows) * sizeof(float));
+            glGetTextureSubImage(position.id(), 0, 0, readRows_, 0, width_, rows, 1, GL_RGBA, GL_FLOAT, bytes,
+                                 &rawPositions_[rowFloats * size_t(readRows_)]);
+            glGetTextureSubImage(normal.id(), 0, 0, readRows_, 0, width_, rows, 1, GL_RGBA, GL_FLOAT, bytes,
+                                 &rawNormals_[rowFloats * size_t(readRows_)]);
+            msPerRow_ = msSince(r0) / double(rows);
+            readRows_ += rows;
+        }
+        // Converted on the worker (as Renderer::positions() and normals(): 3 channels, row 0 at the
+        // top, NaN on the background, whose rays are not traced: lit). ~50 ms here at 774x557.
         auto job = std::make_shared<Job>();
         job->scene = scene_;
         job->time = time_;
         job->lights = lights_;
         job->rays = rays_;
-        job->positions = renderer_->positions();  // NaN on the background: lit, no ray
-        job->normals = renderer_->normals();
+        job->width = width_;
+        job->height = height_;
+        job->rawPositions = std::move(rawPositions_);
+        job->rawNormals = std::move(rawNormals_);
         job->tracer = tracer_;
         job_ = job;
         worker_ = std::thread([job] { runJob(job); });
@@ -212,6 +263,24 @@ void runJob(const std::shared_ptr<ProgressiveRaytrace::Job>& jobPointer) {
     // and RayTracer's own thread inherits it).
     setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), 10);
     try {
+        job.positions = Image(job.width, job.height, 3);
+        job.normals = Image(job.width, job.height, 3);
+        const size_t rowFloats = size_t(job.width) * 4;
+        for (int y = 0; y < job.height; ++y) {
+            const float* p = &job.rawPositions[size_t(job.height - 1 - y) * rowFloats];
+            const float* n = &job.rawNormals[size_t(job.height - 1 - y) * rowFloats];
+            float* po = &job.positions.data[size_t(y) * size_t(job.width) * 3];
+            float* no = &job.normals.data[size_t(y) * size_t(job.width) * 3];
+            for (int x = 0; x < job.width; ++x, p += 4, n += 4, po += 3, no += 3) {
+                const bool background = p[3] == 0.0f;
+                for (int c = 0; c < 3; ++c) {
+                    po[c] = background ? NAN : p[c];
+                    no[c] = background ? NAN : n[c];
+                }
+            }
+        }
+        job.rawPositions.reset();
+        job.rawNormals.reset();
         std::shared_ptr<const RayTracer> tracer = job.tracer;
         if (!tracer) {
             auto built = std::make_shared<RayTracer>(*job.scene, job.time);

@@ -204,6 +204,10 @@ bool Window::rebuildScene() {
     // The progressive reference's renderer now too, not at the first idle moment: it uploads the
     // scene (~0.25 s on plant).
     syncReference(size);
+    if (!raytrace_.active()) {  // the ray tracer's renderer too (its worker starts when it is shown or compared)
+        raytrace_.sync(*scene_, state_.camera, state_.lights, size.x, size.y, state_.time, state_.referenceRays);
+        raytrace_.pause();
+    }
     touch();
     return true;
 }
@@ -397,7 +401,10 @@ void Window::setReferenceTechnique(const std::string& id) {
         return;
     }
     if (id == state_.referenceTechnique) return;
-    if (shownSource() != &ref()) ref().cancel();  // unless the view shows it
+    if (shownSource() != &ref()) {  // unless the view shows it
+        if (&ref() == &raytrace_) raytrace_.pause();  // keeps its renderer
+        else reference_.cancel();
+    }
     state_.referenceTechnique = id;
     touch();
 }
@@ -415,7 +422,7 @@ void Window::syncReference(glm::ivec2 size) {
     const bool needed = referenceNeeded();
     auto inUse = [&](const ProgressiveSource& s) { return shownSource() == &s || (needed && &ref() == &s); };
     if (inUse(raytrace_)) raytrace_.sync(*scene_, state_.camera, state_.lights, size.x, size.y, state_.time, state_.referenceRays);
-    else if (raytrace_.active()) raytrace_.cancel();
+    else raytrace_.pause();
     if (inUse(reference_))
         reference_.sync(*scene_, state_.camera, state_.lights, size.x, size.y, state_.time, state_.referenceSamples,
                         state_.referenceParams);
@@ -574,7 +581,10 @@ void Window::renderViews() {
         }
     }
     const glm::ivec2 size = reduce ? glm::max(glm::ivec2(1), full / factor) : full;
-    if (renderer_->width() != full.x || renderer_->height() != full.y) renderer_->resize(full.x, full.y);
+    if (renderer_->width() != full.x || renderer_->height() != full.y) {
+        renderer_->resize(full.x, full.y);
+        raytrace_.resizeRenderer(full.x, full.y);
+    }
     if (reduce && !dragging) previewVersion_ = version_;
     const std::string rendered = showsReference() ? "hard" : state_.technique;
     const glm::ivec2 previewBefore = preview_.renderer ? glm::ivec2(preview_.renderer->width(), preview_.renderer->height()) : glm::ivec2(0);
@@ -629,7 +639,7 @@ void Window::renderViews() {
 
     if (!referenceNeeded() && !showsReference()) {
         if (reference_.active()) reference_.cancel();
-        if (raytrace_.active()) raytrace_.cancel();
+        raytrace_.pause();
     } else if (!interacting() && imageComplete_ && pendingShots_.empty() &&
                (std::chrono::duration<double>(clock::now() - lastInput_).count() > 0.5 || scriptWaitReference_ > 0)) {
         // Half a second without input first (a pause between two drags should not wait for a
@@ -943,8 +953,8 @@ std::string Window::lastFrameReport() const {
                      {"budget_ms", renderBudgetMs()},
                      {"interacting", interacting()}, {"render_size", {size.x, size.y}},
                      {"reference_samples", ref().done()}, {"reference_total", ref().total()},
-                     {"shown_samples", shownSource() ? shownSource()->done() : 0},
-                     {"shown_total", shownSource() ? shownSource()->total() : 0},
+                     {"shown_samples", shownSource() && shownSource()->active() ? shownSource()->done() : 0},
+                     {"shown_total", shownSource() && shownSource()->active() ? shownSource()->total() : 0},
                      {"reference_technique", state_.referenceTechnique},
                      {"window", {windowSize().x, windowSize().y}}, {"layout", layout_.toJson()},
                      {"technique", state_.technique},

@@ -159,10 +159,16 @@ public:
     void sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width, int height,
               double time, int rays);
     void cancel() override;
+    // Stops the worker and forgets the estimate but keeps the renderer (made at scene load, so
+    // selecting raytraced later does not upload the scene in a UI frame); the next sync restarts.
+    void pause();
+    // The paused renderer to the view's size (when the window re-lays out, whose frame pays for
+    // reallocating the others anyway), so selecting raytraced later reallocates nothing.
+    void resizeRenderer(int width, int height);
     // The G-buffer (in slices of the budget) and the worker's start after a restart; then each
     // batch the worker finished, uploaded and shaded. Returns the batches shown.
     int step(double budgetMs) override;
-    bool active() const override { return renderer_ != nullptr; }
+    bool active() const override { return renderer_ != nullptr && live_; }
     int done() const override { return shown_; }
     int total() const override { return total_; }
     const char* unit() const override { return "rays"; }
@@ -185,6 +191,10 @@ private:
     int width_ = 0, height_ = 0, total_ = 0, rays_ = 0, shown_ = 0;
     double time_ = 0.0;
     bool started_ = false;  // the worker runs for this generation
+    bool live_ = false;     // synced and not paused
+    int readRows_ = 0;        // the G-buffer's rows read back so far (GL's order, bottom first)
+    double msPerRow_ = 0.0;   // what reading one row of both cost
+    std::unique_ptr<float[]> rawPositions_, rawNormals_;  // RGBA32F rows being read back
     double lastBatchMs_ = 0.0;
     std::shared_ptr<Job> job_;
     std::thread worker_;

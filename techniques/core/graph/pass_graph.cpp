@@ -290,6 +290,14 @@ double PassGraph::executeSliced(const std::set<std::string>& requested, int fram
         const char* reason = runReason(invalidated_, frame, node.hasRun);
         const int units = slicing.units ? slicing.units(node.name) : 0;
         if (units <= 0) {
+            // A whole pass whose last run cost more than what is left waits for the next call,
+            // where it runs first (a light-space pass after a frame's bands overshot the budget).
+            const double expected = record.times.empty() ? 0.0 : record.times.back().second;
+            if (ranSomething && expected > budgetMs - spent) {
+                stopped = true;
+                stopAt = i;
+                break;
+            }
             double ms = timer(node.run);
             recordRun(node, key, frame, ms, reason);
             spent += ms;
@@ -369,7 +377,10 @@ double PassGraph::executeSliced(const std::set<std::string>& requested, int fram
                 to = from + std::clamp(count, 1, rest);
             } else {
                 const int bands = (partial_.total + partial_.band - 1) / partial_.band;
-                const double meanBand = partial_.bandsRun > 0 ? partial_.ms / partial_.bandsRun : 0.0;
+                // Before the first band, the pass's last whole run spread over its bands (when it ran
+                // before): an unknown band does not start in the last few ms of a budget.
+                const double lastRun = record.times.empty() ? 0.0 : record.times.back().second;
+                const double meanBand = partial_.bandsRun > 0 ? partial_.ms / partial_.bandsRun : lastRun / bands;
                 if (ranSomething && std::max(meanBand, partial_.lastMs) > left) break;
                 const int b = int((int64_t(partial_.next) * partial_.stride) % bands);
                 from = b * partial_.band;
