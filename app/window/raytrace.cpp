@@ -188,6 +188,7 @@ int ProgressiveRaytrace::step(double budgetMs) {
             const int rows = std::clamp(msPerRow_ > 0.0 ? int(left / msPerRow_) : 16, 1, height_ - readRows_);
             const auto r0 = std::chrono::steady_clock::now();
             const GLsizei bytes = GLsizei(rowFloats * size_t(rows) * sizeof(float));
+            resetPackState();  // into client memory, whatever a VTK view left bound
             glGetTextureSubImage(position.id(), 0, 0, readRows_, 0, width_, rows, 1, GL_RGBA, GL_FLOAT, bytes,
                                  &rawPositions_[rowFloats * size_t(readRows_)]);
             glGetTextureSubImage(normal.id(), 0, 0, readRows_, 0, width_, rows, 1, GL_RGBA, GL_FLOAT, bytes,

@@ -77,6 +77,7 @@ InternalDesc shadowMapPixelRecord(bool pcf) {
     r.record = [pcf](PassContext& ctx, glm::ivec2 pixel) {
         int row = ctx.height() - 1 - pixel.y;
         glm::vec4 position(0.0f);
+        resetPackState();  // into client memory (gl/texture.h)
         glGetTextureSubImage(ctx.gbuffer().position->id(), 0, pixel.x, row, 0, 1, 1, 1, GL_RGBA, GL_FLOAT,
                              sizeof position, &position);
         nlohmann::json j;

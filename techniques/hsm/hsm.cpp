@@ -272,6 +272,7 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel) {
     nlohmann::json& j = s.record;
     int row = ctx.height() - 1 - pixel.y;
     glm::vec4 position(0.0f), normal(0.0f);
+    resetPackState();  // into client memory (gl/texture.h)
     glGetTextureSubImage(ctx.gbuffer().position->id(), 0, pixel.x, row, 0, 1, 1, 1, GL_RGBA, GL_FLOAT, sizeof position,
                          &position);
     glGetTextureSubImage(ctx.gbuffer().normal->id(), 0, pixel.x, row, 0, 1, 1, 1, GL_RGBA, GL_FLOAT, sizeof normal, &normal);

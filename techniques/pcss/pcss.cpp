@@ -258,6 +258,7 @@ InternalDesc pcssPixelRecord() {
         nlohmann::json j = hardRecord(ctx, pixel);
         if (j.contains("background") || j["texels_read"].empty()) return j;
         glm::vec4 b(0.0f);  // (z_avg, count, search width, kernel) of blocker_search.frag
+        resetPackState();  // into client memory (gl/texture.h)
         glGetTextureSubImage(ctx.texture("pcss_blockers").id(), 0, pixel.x, ctx.height() - 1 - pixel.y, 0, 1, 1, 1, GL_RGBA,
                              GL_FLOAT, sizeof b, &b);
         const int size = ctx.texture(shadowTestMap(ctx)).width();

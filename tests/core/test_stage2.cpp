@@ -423,6 +423,24 @@ TEST_F(Stage2Live, ResizeRerunsFrameSizedPasses) {
     expectSameResult(live, fresh, "resize 64x40");
 }
 
+// A size and back with no frame between gives the first size's versions again while the G-buffer
+// and the shaded image were reallocated: the frame after it still renders them (the window's paused
+// ray tracer is resized with the view and read back later).
+TEST_F(Stage2Live, ResizeAndBackWithoutAFrameStillRendersTheGBuffer) {
+    Scene scene = loadScene("square-occluder");
+    Renderer live(scene, pcfOptions(kLiveSize));
+    live.renderFrame(1, kImageAndVisibility);
+    live.resize(64, 40);
+    live.resize(kLiveSize, kLiveSize);
+    live.renderFrame(2, kImageAndVisibility);
+    Renderer fresh(scene, pcfOptions(kLiveSize));
+    fresh.renderFrame(1, kImageAndVisibility);
+    expectSameResult(live, fresh, "resize and back");
+    size_t onGeometry = 0;
+    for (float v : live.positions().data) onGeometry += std::isfinite(v);
+    EXPECT_GT(onGeometry, 0u);
+}
+
 TEST_F(Stage2Live, LightSizeZeroTurnsSoftIntoHardAndBack) {
     Scene scene = loadScene("square-occluder");
     Renderer live(scene, pcfOptions());

@@ -166,10 +166,18 @@ static void flipRows(const T* from, T* to, int width, int height, int channels) 
     for (int y = 0; y < height; ++y) std::copy_n(from + size_t(height - 1 - y) * row, row, to + size_t(y) * row);
 }
 
+void resetPackState() {
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_PACK_SKIP_ROWS, 0);
+    glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
+}
+
 Image readTexture(const Texture& texture, int channels) {
     GLenum format = channels == 1 ? GL_RED : channels == 2 ? GL_RG : channels == 3 ? GL_RGB : GL_RGBA;
     Image raw(texture.width(), texture.height(), channels);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    resetPackState();
     glGetTextureImage(texture.id(), 0, format, GL_FLOAT, GLsizei(raw.data.size() * sizeof(float)), raw.data.data());
     Image image(raw.width, raw.height, channels);
     flipRows(raw.data.data(), image.data.data(), raw.width, raw.height, channels);
@@ -192,7 +200,7 @@ static GLenum pixelFormat(int channels, bool integer) {
 // One level and layer into `out` (GL row order) as (format, type).
 static void readLevel(const Texture& texture, int level, int layer, GLenum format, GLenum type, void* out,
                       size_t bytes) {
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    resetPackState();
     glGetTextureSubImage(texture.id(), level, 0, 0, layer, texture.width(level), texture.height(level), 1, format,
                          type, GLsizei(bytes), out);
 }

@@ -80,6 +80,10 @@ private:
     GLuint id_ = 0;
 };
 
+// Read-backs into client memory: no pixel-pack buffer bound (VTK's views leave one bound now and
+// then, and a read would land in it), tight rows. The read functions below call it.
+void resetPackState();
+
 // Reads a float texture (R32F, RG32F, RGBA32F ...) into an Image with `channels` channels,
 // flipping rows so that row 0 is the top of the picture.
 Image readTexture(const Texture& texture, int channels);

@@ -498,6 +498,12 @@ void Renderer::resize(int width, int height) {
     frame_.width = width;
     frame_.height = height;
     allocateFrameResources();  // the "camera" version includes the size: every frame-size pass re-runs
+    // ... but a size and back (A -> B -> A with no frame at B: the window's paused ray tracer) gives
+    // the versions of A again, while the textures allocated here (the G-buffer's, the shaded image
+    // and visibility) are new: the passes writing them run again. (A technique's own frame-size
+    // textures are reallocated when its pass next runs, so without a frame at B they still hold A.)
+    graph_.invalidatePass("gbuffer");
+    graph_.invalidatePass("shade");
 }
 
 std::vector<const LightState*> Renderer::lights() const {
