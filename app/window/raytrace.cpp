@@ -128,12 +128,22 @@ void ProgressiveRaytrace::resizeRenderer(int width, int height) {
     renderer_->resize(width, height);
 }
 
-void ProgressiveRaytrace::sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width,
-                               int height, double time, int rays) {
+bool ProgressiveRaytrace::matches(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width,
+                                  int height, double time, int rays) const {
     bool same = renderer_ && live_ && scene_ == &scene && sameCamera(camera, camera_) && width == width_ && height == height_ &&
                 time == time_ && rays == rays_ && lights.size() == lights_.size();
     for (size_t i = 0; same && i < lights.size(); ++i) same = sameLight(lights[i], lights_[i]);
-    if (same) return;
+    return same;
+}
+
+void ProgressiveRaytrace::pauseIfStale(const Scene& scene, const Camera& camera, const std::vector<Light>& lights,
+                                       int width, int height, double time, int rays) {
+    if (live_ && !matches(scene, camera, lights, width, height, time, rays)) pause();
+}
+
+void ProgressiveRaytrace::sync(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width,
+                               int height, double time, int rays) {
+    if (matches(scene, camera, lights, width, height, time, rays)) return;
     if (rays < 1) throw InputError("raytraced: rays must be at least 1, got " + std::to_string(rays));
     if (scene_ != &scene) cancel();  // joins every worker reading the old scene
     stopWorker(false);

@@ -554,17 +554,19 @@ void Window::renderViews() {
     // frame at a reduced resolution that fits; otherwise the full resolution is refined in slices
     // of the budget (Renderer::refineFrame), over as many frames as it needs, and shown once complete.
     const bool shot = !pendingShots_.empty();
-    auto known = frameCostMs_.find(state_.technique);
+    // By the technique the full-size renderer runs (`hard` under the progressive references).
+    const std::string costKey = showsReference() ? "hard" : state_.technique;
+    auto known = frameCostMs_.find(costKey);
     const double knownCost = known == frameCostMs_.end() ? -1.0 : known->second;
     const bool dragging = interacting();
     // The divisor per side of the frames while dragging, by technique: from the full frame's cost
     // when first needed, then adapted to what the drag's frames cost (1: the full resolution fits).
-    auto factorIt = dragFactor_.find(state_.technique);
+    auto factorIt = dragFactor_.find(costKey);
     if (factorIt == dragFactor_.end() && dragging) {
         // Without a full frame's cost (the technique's first frame is still being refined), the
         // divisor the drag renderer was warmed at (rebuildScene): its textures are that size.
         const int initial = knownCost > 0.0 ? int(std::ceil(std::sqrt(knownCost / budget))) : software_ ? kWarmDivisor : 1;
-        factorIt = dragFactor_.emplace(state_.technique, std::clamp(initial, 1, std::max(1, state_.reduceFactor))).first;
+        factorIt = dragFactor_.emplace(costKey, std::clamp(initial, 1, std::max(1, state_.reduceFactor))).first;
     }
     int notDragging = 1;  // no divisor yet: this frame does not drag
     int& dragFactor = factorIt == dragFactor_.end() ? notDragging : factorIt->second;
@@ -621,7 +623,7 @@ void Window::renderViews() {
         }
         refineWorkMs_ += renderMs_;
         if (refineProgress_ >= 1.0 && refineWorkMs_ > 1.0) {
-            frameCostMs_[state_.technique] = refineWorkMs_;  // what this change cost at full size
+            frameCostMs_[costKey] = refineWorkMs_;  // what this change cost at full size
             refineWorkMs_ = 0.0;
         }
     }
@@ -637,6 +639,10 @@ void Window::renderViews() {
     }
     imageComplete_ = refineProgress_ >= 1.0 && compareComplete;
 
+    // The ray tracer's worker stops as soon as the state it traces is gone (a drag's first frame):
+    // its rays would be thrown away, and on two cores they slow the drag's frames.
+    if (referenceVersion_ != version_) raytrace_.pauseIfStale(*scene_, state_.camera, state_.lights, full.x, full.y,
+                                                             state_.time, state_.referenceRays);
     if (!referenceNeeded() && !showsReference()) {
         if (reference_.active()) reference_.cancel();
         raytrace_.pause();
@@ -650,9 +656,12 @@ void Window::renderViews() {
         referenceVersion_ = version_;
         // The one the view shows first, then the reference (the ray tracer's step only uploads a
         // finished batch: its rays run on the worker thread).
+        // A frame that showed a new batch of rays (an upload and a full-size shading) leaves the
+        // reference for the next one.
         ProgressiveSource* first = shownSource();
-        if (first) first->step(std::max(1.0, budget - spent - msSince(c1)));
-        if (referenceNeeded() && &ref() != first) ref().step(std::max(1.0, budget - spent - msSince(c1)));
+        const int shownWork = first ? first->step(std::max(1.0, budget - spent - msSince(c1))) : 0;
+        if (referenceNeeded() && &ref() != first && !(first == &raytrace_ && shownWork > 0))
+            ref().step(std::max(1.0, budget - spent - msSince(c1)));
     }
     updateMetrics();
 }

@@ -162,6 +162,9 @@ public:
     // Stops the worker and forgets the estimate but keeps the renderer (made at scene load, so
     // selecting raytraced later does not upload the scene in a UI frame); the next sync restarts.
     void pause();
+    // pause() when the running trace is not of this state.
+    void pauseIfStale(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width, int height,
+                      double time, int rays);
     // The paused renderer to the view's size (when the window re-lays out, whose frame pays for
     // reallocating the others anyway), so selecting raytraced later reallocates nothing.
     void resizeRenderer(int width, int height);
@@ -182,6 +185,8 @@ public:
     struct Job;  // what the worker reads and publishes (raytrace.cpp)
 
 private:
+    bool matches(const Scene& scene, const Camera& camera, const std::vector<Light>& lights, int width, int height,
+                 double time, int rays) const;
     // Stops the running worker (it ends at its next row); joins the finished ones, or all (`wait`).
     void stopWorker(bool wait);
     std::unique_ptr<Renderer> renderer_;
