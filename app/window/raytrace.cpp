@@ -35,16 +35,6 @@ namespace shadowlab {
 
 namespace {
 
-bool sameLight(const Light& a, const Light& b) {
-    return a.shape == b.shape && a.position == b.position && a.direction == b.direction && a.up == b.up &&
-           a.size == b.size && a.color == b.color && a.intensity == b.intensity && a.castsShadows == b.castsShadows;
-}
-
-bool sameCamera(const Camera& a, const Camera& b) {
-    return a.position == b.position && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees &&
-           a.nearPlane == b.nearPlane && a.farPlane == b.farPlane;
-}
-
 constexpr double kBatchMs = 200.0;  // the worker's time per batch after the first (one ray per pixel)
 
 double msSince(std::chrono::steady_clock::time_point t0) {

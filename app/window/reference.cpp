@@ -14,8 +14,6 @@
 
 namespace shadowlab {
 
-namespace {
-
 bool sameLight(const Light& a, const Light& b) {
     return a.shape == b.shape && a.position == b.position && a.direction == b.direction && a.up == b.up &&
            a.size == b.size && a.color == b.color && a.intensity == b.intensity && a.castsShadows == b.castsShadows;
@@ -25,8 +23,6 @@ bool sameCamera(const Camera& a, const Camera& b) {
     return a.position == b.position && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees &&
            a.nearPlane == b.nearPlane && a.farPlane == b.farPlane;
 }
-
-}  // namespace
 
 void ProgressiveSource::restarted() {
     static uint64_t next = 0;  // the GL thread's: sources restart there

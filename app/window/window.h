@@ -77,6 +77,10 @@ struct WindowState {
     std::vector<std::string> openViews;  // VTK views shown in the views panel (viz/views.h names)
 };
 
+// Every field a progressive reference depends on (reference.cpp): a difference restarts it.
+bool sameLight(const Light& a, const Light& b);
+bool sameCamera(const Camera& a, const Camera& b);
+
 // A reference the window accumulates while the input is idle, restarted by any change of what it
 // depends on: the progressive `reference` (light samples on the GL thread, in slices of the frame
 // budget) or the progressive `raytraced` (rays on a worker thread). The split's reference side, the
