@@ -7,10 +7,12 @@
 // (script step, render, present, UI, swap, glFinish), of the technique's render alone, the render
 // size, and the first full-resolution frame after the drag (the refinement).
 // Usage: LP_NUM_THREADS=2 shadowlab_bench_window_drag [scene] [technique] [WxH] [drag frames] [runs]
-//        LP_NUM_THREADS=2 shadowlab_bench_window_drag plant all [WxH]   (issue 18's table: every
-//        technique, the UI frame time p50 / p95 in the ten frames after each of three switches to it,
-//        while dragging the light, and idle while the reference accumulates (for `raytraced`: its
-//        rays on the worker thread); the frame count of each phase in brackets)
+//        LP_NUM_THREADS=2 shadowlab_bench_window_drag plant all [WxH] [runs] [technique,...]
+//        (issue 18's table: every technique, or those listed, the UI frame time p50 / p95 in the ten
+//        frames after each of three switches to it, while dragging the light, and idle while the
+//        reference accumulates (for `raytraced`: its rays on the worker thread), over the frames
+//        of every run pooled; the frame count of each phase in brackets, and with more than one run
+//        the smallest and largest p95 of a single run)
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -130,27 +132,59 @@ int main(int argc, char** argv) {
     std::string technique = argc > 2 ? argv[2] : "pcf";
     if (technique == "all") {  // every technique the window runs, the three phases
         std::string size = argc > 3 ? argv[3] : "1024x768";
+        const int runs = argc > 4 ? std::max(1, std::atoi(argv[4])) : 1;
+        std::vector<std::string> techniques = {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "reference", "raytraced"};
+        if (argc > 5) {
+            techniques.clear();
+            std::string list = argv[5];
+            for (size_t a = 0; a <= list.size();) {
+                size_t b = std::min(list.find(',', a), list.size());
+                if (b > a) techniques.push_back(list.substr(a, b - a));
+                a = b + 1;
+            }
+        }
         fs::path dir = fs::temp_directory_path() / ("shadowlab-window-phases-" + std::to_string(getpid()));
         fs::create_directories(dir);
-        std::printf("window UI frame time by phase: %s at %s, each technique at its defaults, LP_NUM_THREADS=%s\n", scene.c_str(),
-                    size.c_str(), std::getenv("LP_NUM_THREADS") ? std::getenv("LP_NUM_THREADS") : "(unset)");
-        std::printf("%-12s %20s %20s %20s\n", "technique", "after switch p50/p95", "drag p50/p95", "idle+ref p50/p95");
+        std::printf("window UI frame time by phase: %s at %s, each technique at its defaults, %d run(s) pooled, LP_NUM_THREADS=%s\n",
+                    scene.c_str(), size.c_str(), runs, std::getenv("LP_NUM_THREADS") ? std::getenv("LP_NUM_THREADS") : "(unset)");
+        std::printf("%-12s %30s %30s %30s\n", "technique", "after switch p50/p95", "drag p50/p95", "idle+ref p50/p95");
         int status = 0;
-        for (const char* t : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "reference", "raytraced"}) {
-            Phases p;
-            if (!runPhases(scene, t, size, dir, p)) {
-                std::fprintf(stderr, "window_drag: %s: the window failed or a phase had no frames (see %s)\n", t,
-                             (dir / "log.txt").c_str());
-                status = 1;
-                continue;
+        for (const std::string& t : techniques) {
+            Phases all;
+            std::vector<Phases> each;
+            for (int run = 0; run < runs; ++run) {
+                Phases p;
+                if (!runPhases(scene, t, size, dir, p)) {
+                    std::fprintf(stderr, "window_drag: %s: the window failed or a phase had no frames (see %s)\n", t.c_str(),
+                                 (dir / "log.txt").c_str());
+                    status = 1;
+                    continue;
+                }
+                for (auto [to, from] : {std::pair{&all.afterSwitch, &p.afterSwitch}, {&all.drag, &p.drag}, {&all.idle, &p.idle}})
+                    to->insert(to->end(), from->begin(), from->end());
+                each.push_back(p);
             }
-            auto cell = [](const std::vector<double>& v) {
-                char text[48];
-                if (v.empty()) std::snprintf(text, sizeof text, "-");
-                else std::snprintf(text, sizeof text, "%.0f / %.0f ms (%zu)", percentile(v, 0.5), percentile(v, 0.95), v.size());
-                return std::string(text);
+            if (each.empty()) continue;
+            auto cell = [&](std::vector<double> Phases::*phase) {
+                const std::vector<double>& v = all.*phase;
+                char text[64];
+                if (v.empty()) return std::string("-");
+                std::snprintf(text, sizeof text, "%.0f / %.0f ms (%zu)", percentile(v, 0.5), percentile(v, 0.95), v.size());
+                std::string out = text;
+                if (each.size() > 1) {
+                    double lo = 1e30, hi = 0.0;
+                    for (const Phases& p : each) {
+                        lo = std::min(lo, percentile(p.*phase, 0.95));
+                        hi = std::max(hi, percentile(p.*phase, 0.95));
+                    }
+                    std::snprintf(text, sizeof text, " [%.0f-%.0f]", lo, hi);
+                    out += text;
+                }
+                return out;
             };
-            std::printf("%-12s %20s %20s %20s\n", t, cell(p.afterSwitch).c_str(), cell(p.drag).c_str(), cell(p.idle).c_str());
+            std::printf("%-12s %30s %30s %30s\n", t.c_str(), cell(&Phases::afterSwitch).c_str(), cell(&Phases::drag).c_str(),
+                        cell(&Phases::idle).c_str());
+            std::fflush(stdout);
         }
         fs::remove_all(dir);
         return status;

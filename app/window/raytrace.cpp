@@ -10,6 +10,7 @@
 //                                                     light), added to SampleSums
 //   a finished batch: every light's estimate <- publishes each light's estimate
 //   uploaded, shaded by Renderer::shadeWith
+//   in bands of rows (slices of the budget)
 //
 // The first batch is one ray per pixel (a picture at once), the next ones sized to ~0.2 s of the
 // worker's time. Complete, each light's estimate is SampleSums::image() over all M, which equals
@@ -99,6 +100,8 @@ void ProgressiveRaytrace::cancel() {
     scene_ = nullptr;
     shown_ = total_ = 0;
     started_ = false;
+    readRows_ = 0;
+    shadeRows_ = 0;
     live_ = false;
     restarted();
 }
@@ -110,6 +113,7 @@ void ProgressiveRaytrace::pause() {
     shown_ = 0;
     started_ = false;
     readRows_ = 0;
+    shadeRows_ = 0;
     live_ = false;
 }
 
@@ -163,6 +167,7 @@ void ProgressiveRaytrace::sync(const Scene& scene, const Camera& camera, const s
     shown_ = 0;
     started_ = false;
     readRows_ = 0;
+    shadeRows_ = 0;
     live_ = true;
 }
 
@@ -213,33 +218,48 @@ int ProgressiveRaytrace::step(double budgetMs) {
         started_ = true;
         return 0;
     }
-    std::vector<Image> estimate;
-    int traced = 0;
-    {
-        std::lock_guard<std::mutex> lock(job_->mutex);
-        if (!job_->error.empty()) {
-            std::fprintf(stderr, "shadowlab window: raytraced: %s\n", job_->error.c_str());
-            job_->error.clear();
-            return 0;
+    if (shadeRows_ == 0) {  // a finished batch: every light's estimate uploaded, then shaded in bands
+        std::vector<Image> estimate;
+        {
+            std::lock_guard<std::mutex> lock(job_->mutex);
+            if (!job_->error.empty()) {
+                std::fprintf(stderr, "shadowlab window: raytraced: %s\n", job_->error.c_str());
+                job_->error.clear();
+                return 0;
+            }
+            if (job_->built) tracer_ = job_->built;
+            if (job_->traced == shown_) return 0;
+            estimate.swap(job_->estimate);
+            shading_ = job_->traced;
+            lastBatchMs_ = job_->batchMs;
         }
-        if (job_->built) tracer_ = job_->built;
-        if (job_->traced == shown_) return 0;
-        estimate.swap(job_->estimate);
-        traced = job_->traced;
-        lastBatchMs_ = job_->batchMs;
+        shadeInputs_.assign(lights_.size(), nullptr);
+        lightVisibility_.resize(lights_.size());
+        for (size_t i = 0; i < lights_.size(); ++i) {
+            if (i >= estimate.size() || estimate[i].data.empty()) continue;
+            Texture& t = lightVisibility_[i];
+            if (!t || t.width() != width_ || t.height() != height_) t = Texture::create2D(width_, height_, Format::R32F);
+            uploadTexture(t, 0, 0, estimate[i]);  // ~0.5 ms a light at 774x557
+            shadeInputs_[i] = &t;
+        }
     }
-    std::vector<const Texture*> visibility(lights_.size(), nullptr);
-    lightVisibility_.resize(lights_.size());
-    for (size_t i = 0; i < lights_.size(); ++i) {
-        if (i >= estimate.size() || estimate[i].data.empty()) continue;
-        Texture& t = lightVisibility_[i];
-        if (!t || t.width() != width_ || t.height() != height_) t = Texture::create2D(width_, height_, Format::R32F);
-        uploadTexture(t, 0, 0, estimate[i]);
-        visibility[i] = &t;
+    // The shading in bands of rows within the budget (a whole shading cost ~15 ms at 774x557 with
+    // the worker on the other core), at least 16 rows a call. Until the last band the image is the
+    // new batch below and the last one above: two estimates of the same picture, and done() still
+    // says the last one (the view is composed again only when done() changes).
+    const auto t0 = std::chrono::steady_clock::now();
+    while (shadeRows_ < height_) {
+        const double left = budgetMs - msSince(t0);
+        if (left <= 0.0 && msSince(t0) > 0.0 && shadeRows_ > 0 && msPerShadeRow_ > 0.0) return 0;
+        const int rows = std::clamp(msPerShadeRow_ > 0.0 ? int(left / msPerShadeRow_) : 32, 16, height_ - shadeRows_);
+        const auto r0 = std::chrono::steady_clock::now();
+        renderer_->shadeWith(frame, shadeInputs_, shadeRows_, shadeRows_ + rows);
+        glFinish();
+        msPerShadeRow_ = msSince(r0) / double(rows);
+        shadeRows_ += rows;
     }
-    renderer_->shadeWith(frame, visibility);
-    glFinish();
-    shown_ = traced;
+    shadeRows_ = 0;
+    shown_ = shading_;
     return 1;
 }
 

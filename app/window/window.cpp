@@ -476,10 +476,19 @@ void Window::screenshot(const std::string& path) { pendingShots_.push_back(path)
 // ---- rendering ----------------------------------------------------------------------------------------
 
 double Window::renderBudgetMs() const {
-    // What the last frame spent outside rendering (script, UI, present, ImGui, swap) comes off the
-    // frame budget; the technique and the reference always get at least 8 ms.
-    const double other = phaseMs_[0] + phaseMs_[2] + phaseMs_[3] + phaseMs_[4];
-    return std::max(8.0, kFrameBudgetMs - other);
+    // What the last frame spent outside rendering (script, UI, present less its composition, ImGui,
+    // swap) comes off the frame budget, and a composition's cost when this frame is likely to
+    // compose; the technique and the reference always get at least 8 ms.
+    const double other = phaseMs_[0] + std::max(0.0, phaseMs_[2] - composeMs_) + phaseMs_[3] + phaseMs_[4];
+    return std::max(8.0, kFrameBudgetMs - other - (composeLikely() ? composeCostMs_ : 0.0));
+}
+
+bool Window::composeLikely() const {
+    if (state_.playing || composedVersion_ != version_) return true;  // a change not composed yet
+    const ProgressiveSource* source = shownSource();
+    if (source && !source->complete()) return true;  // its next batch or sample is composed
+    const bool referenceInView = state_.errorView || state_.compare == WindowState::Compare::Reference;
+    return referenceInView && !ref().complete();
 }
 
 Renderer& Window::syncMirror(MirrorRenderer& m, const std::string& technique,
@@ -594,6 +603,11 @@ void Window::renderViews() {
     // A frame right after a resize pays for new textures: it says nothing about the divisor.
     const bool previewResized = reduce && previewBefore != size;
 
+    // The ray tracer's worker stops as soon as the state it traces is gone (a drag's first frame),
+    // before this frame renders: its rays would be thrown away, and on two cores they slow the
+    // drag's frames.
+    if (referenceVersion_ != version_) raytrace_.pauseIfStale(*scene_, state_.camera, state_.lights, full.x, full.y,
+                                                             state_.time, state_.referenceRays);
     auto t0 = clock::now();
     const std::set<std::string> outputs = {"image", "visibility"};
     const bool whole = shot || reduce || dragging;  // a drag's frames render whole (full size with --no-reduce)
@@ -639,10 +653,6 @@ void Window::renderViews() {
     }
     imageComplete_ = refineProgress_ >= 1.0 && compareComplete;
 
-    // The ray tracer's worker stops as soon as the state it traces is gone (a drag's first frame):
-    // its rays would be thrown away, and on two cores they slow the drag's frames.
-    if (referenceVersion_ != version_) raytrace_.pauseIfStale(*scene_, state_.camera, state_.lights, full.x, full.y,
-                                                             state_.time, state_.referenceRays);
     if (!referenceNeeded() && !showsReference()) {
         if (reference_.active()) reference_.cancel();
         raytrace_.pause();
@@ -660,8 +670,10 @@ void Window::renderViews() {
         // reference for the next one.
         ProgressiveSource* first = shownSource();
         const int shownWork = first ? first->step(std::max(1.0, budget - spent - msSince(c1))) : 0;
-        if (referenceNeeded() && &ref() != first && !(first == &raytrace_ && shownWork > 0))
-            ref().step(std::max(1.0, budget - spent - msSince(c1)));
+        // The reference only with 2 ms left at least (a slice overshoots its share by a few ms).
+        const double left = budget - spent - msSince(c1);
+        if (referenceNeeded() && &ref() != first && !(first == &raytrace_ && shownWork > 0) && left > 2.0)
+            ref().step(left);
     }
     updateMetrics();
 }
@@ -722,9 +734,10 @@ void Window::present() {
         mode = 1;
     }
     if (mode != 0) size = fb;  // two images (possibly of two sizes) meet at the split: compose at window size
-    // The reference's progress changes the picture only where the reference is shown.
-    const bool referenceInView = mode == 2 || (mode == 1 && state_.compare == WindowState::Compare::Reference) ||
-                                 showsReference();
+    // The reference's progress changes the picture only where the reference is shown (a progressive
+    // source shown as the technique counts through its own done() below: raytraced shown beside a
+    // hidden shadow-map reference is not re-composed at each of the reference's samples).
+    const bool referenceInView = mode == 2 || (mode == 1 && state_.compare == WindowState::Compare::Reference);
     std::vector<double> key = {double(version_), double(frameIndex_), double(a), double(b), double(mode),
                                double(size.x), double(size.y), state_.split, state_.errorScale,
                                referenceInView ? double(ref().done()) : 0.0,
@@ -743,9 +756,15 @@ void Window::present() {
         viewCache_ = Texture::create2D(capacity.x, capacity.y, Format::RGBA8);
         viewCacheFbo_ = Framebuffer({&viewCache_}, nullptr);
         presentKey_.clear();
+        // A scaled, filtered blit into the window (a drag's reduced frames) once now, 2x2 to a
+        // pixel the clear below paints over: llvmpipe builds that blit's shader at its first use,
+        // 35-60 ms in the first frame of the first drag otherwise.
+        glBlitNamedFramebuffer(viewCacheFbo_.id(), 0, 0, 0, 2, 2, 0, 0, 1, 1, GL_COLOR_BUFFER_BIT, GL_LINEAR);
     }
     cacheSize_ = size;
+    composeMs_ = 0.0;
     if (!keep && key != presentKey_) {
+        const auto c0 = clock::now();
         viewCacheFbo_.bind(size.x, size.y);
         glDisable(GL_DEPTH_TEST);
         glDisable(GL_BLEND);
@@ -768,6 +787,10 @@ void Window::present() {
         glBindTextureUnit(0, 0);
         glBindTextureUnit(1, 0);
         presentKey_ = key;
+        composedVersion_ = version_;
+        glFinish();  // timed here, not in the blit after it
+        composeMs_ = msSince(c0);
+        composeCostMs_ = std::max(composeMs_, 0.9 * composeCostMs_);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, window.x, window.y);

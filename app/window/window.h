@@ -210,6 +210,10 @@ private:
     std::vector<std::pair<std::shared_ptr<Job>, std::thread>> retired_;  // stopped workers not joined yet
     std::shared_ptr<const RayTracer> tracer_;  // the BVH of (scene_, time_), reused by the next restart
     std::vector<Texture> lightVisibility_;     // per light, the estimate uploaded (R32F)
+    std::vector<const Texture*> shadeInputs_;  // lightVisibility_ as shadeWith takes it (null: lit)
+    int shading_ = 0;            // rays per pixel of the batch being shaded
+    int shadeRows_ = 0;          // its rows shaded so far (GL's order); 0: none being shaded
+    double msPerShadeRow_ = 0.0; // what shading one row cost
 };
 
 struct ScriptCommand {
@@ -365,6 +369,11 @@ private:
     glm::ivec2 cacheSize_{0};    // the part of viewCache_ the last composition filled
     std::vector<double> presentKey_;  // what the cache shows
     uint64_t presentCount_ = 0;
+    // Composing the view (present.frag at the render's size) cost 7-16 ms on llvmpipe: the frame
+    // budget keeps it aside on a frame likely to compose (composeLikely).
+    double composeMs_ = 0.0;      // what this frame's composition cost (0: none)
+    double composeCostMs_ = 0.0;  // what a composition costs (the last, decaying slowly)
+    uint64_t composedVersion_ = ~0ull;  // version_ the cache was last composed at
     int frameIndex_ = 0;
     uint64_t version_ = 0;  // bumps on every change of the state
     clock::time_point lastInput_{};
@@ -378,6 +387,7 @@ private:
     // The frame budget (README "The frame budget"): the UI frame aims at kFrameBudgetMs.
     static constexpr double kFrameBudgetMs = 36.0;
     double renderBudgetMs() const;  // what the technique and the reference may spend this frame
+    bool composeLikely() const;     // this frame's picture may change: a composition to pay for
     // What the technique view shows when it is not the complete frame: "refining, 40%", "reduced
     // 1/7 while dragging", "preview at 1/7, refining next"; "" when it is.
     std::string shownText() const;

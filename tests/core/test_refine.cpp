@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gl/texture.h"
 #include "graph/renderer.h"
 #include "scene/scene.h"
 #include "support/gl_fixture.h"
@@ -230,4 +231,42 @@ TEST_F(RefineFrameTest, APieceWritesOnlyItsRows) {
 }
 
 }  // namespace
+// Renderer::shadeWith in bands of rows (the window's ray tracer shades a batch over frames): a band
+// writes its rows only, and the bands together equal one whole shading.
+TEST_F(RefineFrameTest, ShadeWithInBandsEqualsTheWholeShading) {
+    Scene scene = loadScene("square-occluder");
+    RenderOptions options;
+    options.width = 64;
+    options.height = 48;
+    options.technique = "hard";
+    Renderer whole(scene, options), banded(scene, options);
+    Image half(64, 48, 1);
+    std::fill(half.data.begin(), half.data.end(), 0.25f);
+    Texture v = Texture::create2D(64, 48, Format::R32F);
+    uploadTexture(v, 0, 0, half);
+    whole.shadeWith(0, {&v});
+    banded.renderFrame(0, {"visibility"});
+    const Image before = banded.visibility();
+    banded.shadeWith(0, {&v}, 0, 10);  // GL's rows 0-9: the image's last ten
+    const Image w = whole.visibility(), first = banded.visibility();
+    int changedOutside = 0, wrongInside = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const bool inside = y >= 48 - 10;
+            if (inside && first.at(x, y, 0) != w.at(x, y, 0)) ++wrongInside;
+            if (!inside && first.at(x, y, 0) != before.at(x, y, 0)) ++changedOutside;
+        }
+    EXPECT_EQ(wrongInside, 0);
+    EXPECT_EQ(changedOutside, 0);
+    bool differs = false;  // the test can fail: hard's visibility is not 0.25 everywhere
+    for (size_t i = 0; i < w.data.size(); ++i) differs = differs || w.data[i] != before.data[i];
+    EXPECT_TRUE(differs);
+    banded.shadeWith(0, {&v}, 10, 33);
+    banded.shadeWith(0, {&v}, 33, -1);
+    const Image all = banded.visibility();
+    const Image wi = whole.image(), bi = banded.image();
+    for (size_t i = 0; i < w.data.size(); ++i) ASSERT_EQ(all.data[i], w.data[i]) << i;
+    for (size_t i = 0; i < wi.data.size(); ++i) ASSERT_EQ(bi.data[i], wi.data[i]) << i;
+}
+
 }  // namespace shadowlab

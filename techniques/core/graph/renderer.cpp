@@ -307,7 +307,7 @@ void Renderer::shade(const std::vector<const Texture*>& visibility) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void Renderer::shadeWith(int frame, const std::vector<const Texture*>& visibility) {
+void Renderer::shadeWith(int frame, const std::vector<const Texture*>& visibility, int y0, int y1) {
     if (visibility.size() != lights_.size()) {
         throw InternalError("Renderer::shadeWith: " + std::to_string(visibility.size()) + " visibility textures for " +
                             std::to_string(lights_.size()) + " lights");
@@ -323,7 +323,15 @@ void Renderer::shadeWith(int frame, const std::vector<const Texture*>& visibilit
     std::vector<const Texture*> own(visibility);
     for (size_t i = 0; i < lights_.size(); ++i)
         if (!lights_[i]->state.light.castsShadows) own[i] = nullptr;  // visibility 1, as the shade pass
-    shade(own);
+    y0 = std::clamp(y0, 0, frame_.height);
+    y1 = y1 < 0 ? frame_.height : std::clamp(y1, y0, frame_.height);
+    const bool band = y0 > 0 || y1 < frame_.height;
+    if (band) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(0, y0, frame_.width, y1 - y0);
+    }
+    if (y1 > y0) shade(own);
+    if (band) glDisable(GL_SCISSOR_TEST);
     graph_.invalidatePass("shade");  // image and visibility no longer hold the graph's shading
 }
 

@@ -60,8 +60,9 @@ public:
     // as light i's visibility in place of its technique's (a light that casts no shadow keeps 1):
     // the window's progressive ray tracer re-shades each batch of rays with the shade pass's own
     // math. Runs the G-buffer when stale; image() and visibility() then hold this shading, and the
-    // next frame that needs them runs the shade pass again.
-    void shadeWith(int frame, const std::vector<const Texture*>& visibility);
+    // next frame that needs them runs the shade pass again. Only rows [y0, y1) (GL's order, row 0
+    // at the bottom; y1 < 0: to the top) are shaded, so a batch can be shaded in bands over frames.
+    void shadeWith(int frame, const std::vector<const Texture*>& visibility, int y0 = 0, int y1 = -1);
     // The passes refineFrame runs in bands (their names in the graph).
     const std::set<std::string>& bandedPasses() const { return banded_; }
 
