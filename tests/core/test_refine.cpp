@@ -188,14 +188,19 @@ TEST_F(RefineFrameTest, EqualsTheFrameRunWholeForEveryTechnique) {
     }
 }
 
-// A piece writes its rows only (the scissor bounds the work): after one piece of a new camera's
-// G-buffer, the two rows at the bottom hold the new camera's positions and every other row the old.
-TEST_F(RefineFrameTest, APieceWritesOnlyItsRows) {
-    Scene scene = loadScene("square-occluder");
+RenderOptions hardAt64x48() {
     RenderOptions options;
     options.width = 64;
     options.height = 48;
     options.technique = "hard";
+    return options;
+}
+
+// A piece writes its rows only (the scissor bounds the work): after one piece of a new camera's
+// G-buffer, the two rows at the bottom hold the new camera's positions and every other row the old.
+TEST_F(RefineFrameTest, APieceWritesOnlyItsRows) {
+    Scene scene = loadScene("square-occluder");
+    const RenderOptions options = hardAt64x48();
     Renderer a(scene, options), b(scene, options), r(scene, options);
     Camera moved = scene.camera;
     moved.position += glm::vec3(0.7f, -0.4f, 0.2f);
@@ -235,10 +240,7 @@ TEST_F(RefineFrameTest, APieceWritesOnlyItsRows) {
 // writes its rows only, and the bands together equal one whole shading.
 TEST_F(RefineFrameTest, ShadeWithInBandsEqualsTheWholeShading) {
     Scene scene = loadScene("square-occluder");
-    RenderOptions options;
-    options.width = 64;
-    options.height = 48;
-    options.technique = "hard";
+    const RenderOptions options = hardAt64x48();
     Renderer whole(scene, options), banded(scene, options);
     Image half(64, 48, 1);
     std::fill(half.data.begin(), half.data.end(), 0.25f);
