@@ -9,8 +9,8 @@
 // Usage: LP_NUM_THREADS=2 shadowlab_bench_window_drag [scene] [technique] [WxH] [drag frames] [runs]
 //        LP_NUM_THREADS=2 shadowlab_bench_window_drag plant all [WxH] [runs] [technique,...]
 //        (issue 18's table: every technique, or those listed, the UI frame time p50 / p95 in the ten
-//        frames after each of three switches to it, while dragging the light, and idle while the
-//        reference accumulates (for `raytraced`: its rays on the worker thread), over the frames
+//        frames after each of three switches to it, while dragging the light, after the drag (its
+//        refinement, until the reference starts), and idle while the reference accumulates (for `raytraced`: its rays on the worker thread), over the frames
 //        of every run pooled; the frame count of each phase in brackets, and with more than one run
 //        the smallest and largest p95 of a single run)
 #include <algorithm>
@@ -81,7 +81,7 @@ bool runOnce(const std::string& scene, const std::string& technique, const std::
 // (from `hard`; `hard` from `pcf`), while the light is dragged, and while idle with the reference accumulating, as
 // p50 and p95 of frame_ms over the frames of each phase (from --report).
 struct Phases {
-    std::vector<double> afterSwitch, drag, idle;
+    std::vector<double> afterSwitch, drag, refine, idle;
 };
 
 bool runPhases(const std::string& scene, const std::string& technique, const std::string& size, const fs::path& dir,
@@ -115,6 +115,9 @@ bool runPhases(const std::string& scene, const std::string& technique, const std
     for (size_t s : switches)
         for (size_t i = s; i < std::min({frames.size(), s + 10, dragStart}); ++i)
             if (frames[i]["technique"] == technique) out.afterSwitch.push_back(frames[i]["frame_ms"]);
+    // After the drag: its refinement at full size and the half second before the reference starts.
+    for (size_t i = dragEnd + 1; i < frames.size() && frames[i]["reference_samples"].get<int>() == 0; ++i)
+        out.refine.push_back(frames[i]["frame_ms"]);
     // Idle: after the drag's last frame and its refinement, while the reference accumulates (or
     // shows a new batch).
     for (size_t i = dragEnd + 3; i < frames.size(); ++i)
@@ -147,7 +150,8 @@ int main(int argc, char** argv) {
         fs::create_directories(dir);
         std::printf("window UI frame time by phase: %s at %s, each technique at its defaults, %d run(s) pooled, LP_NUM_THREADS=%s\n",
                     scene.c_str(), size.c_str(), runs, std::getenv("LP_NUM_THREADS") ? std::getenv("LP_NUM_THREADS") : "(unset)");
-        std::printf("%-12s %30s %30s %30s\n", "technique", "after switch p50/p95", "drag p50/p95", "idle+ref p50/p95");
+        std::printf("%-12s %30s %30s %30s %30s\n", "technique", "after switch p50/p95", "drag p50/p95", "after drag p50/p95",
+                    "idle+ref p50/p95");
         int status = 0;
         for (const std::string& t : techniques) {
             Phases all;
@@ -160,7 +164,8 @@ int main(int argc, char** argv) {
                     status = 1;
                     continue;
                 }
-                for (auto [to, from] : {std::pair{&all.afterSwitch, &p.afterSwitch}, {&all.drag, &p.drag}, {&all.idle, &p.idle}})
+                for (auto [to, from] : {std::pair{&all.afterSwitch, &p.afterSwitch}, {&all.drag, &p.drag}, {&all.refine, &p.refine},
+                                        {&all.idle, &p.idle}})
                     to->insert(to->end(), from->begin(), from->end());
                 each.push_back(p);
             }
@@ -182,8 +187,8 @@ int main(int argc, char** argv) {
                 }
                 return out;
             };
-            std::printf("%-12s %30s %30s %30s\n", t.c_str(), cell(&Phases::afterSwitch).c_str(), cell(&Phases::drag).c_str(),
-                        cell(&Phases::idle).c_str());
+            std::printf("%-12s %30s %30s %30s %30s\n", t.c_str(), cell(&Phases::afterSwitch).c_str(), cell(&Phases::drag).c_str(),
+                        cell(&Phases::refine).c_str(), cell(&Phases::idle).c_str());
             std::fflush(stdout);
         }
         fs::remove_all(dir);

@@ -38,6 +38,11 @@ public:
     virtual void setSplit(const std::string& against) = 0;
     // Renders what the task reads and returns it (visibility, reference when `withReference`, ids).
     virtual TaskBuffers readTaskBuffers(bool withReference) = 0;
+    // Whether readTaskBuffers can answer now without waiting: false while what the task reads is
+    // still accumulating (the window's progressive references), `waiting` then says what ("the
+    // reference: 40 of 128 samples"); the player marks the check pending and the host calls
+    // LessonPlayer::finishCheck once it is ready. The headless host is always ready.
+    virtual bool taskBuffersReady(bool /*withReference*/, std::string& /*waiting*/) { return true; }
 };
 
 // Applies the complete state to a host: scene, technique, every parameter, every light, the

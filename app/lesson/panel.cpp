@@ -124,8 +124,8 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
         if (flowButton("Check (C)", true)) player.checkTask();
         if (flowButton("Show me (M)", false)) player.showMe();
         const LessonPlayer::Feedback& f = player.feedback();
-        ImGui::PushStyleColor(ImGuiCol_Text, statusColour(f.status));
-        ImGui::TextWrapped("%s", statusText(f.status));
+        ImGui::PushStyleColor(ImGuiCol_Text, f.pending ? ImVec4(0.8f, 0.8f, 0.8f, 1.0f) : statusColour(f.status));
+        ImGui::TextWrapped("%s", f.pending ? "checking ..." : statusText(f.status));
         ImGui::PopStyleColor();
         if (!f.message.empty()) ImGui::TextWrapped("%s", f.message.c_str());
     }

@@ -66,7 +66,15 @@ LessonPlayer::LessonPlayer(Lesson lesson, LessonHost& host) : lesson_(std::move(
     goTo(0);
 }
 
-void LessonPlayer::apply(const LessonState& state) { applyLessonState(host_, state); }
+void LessonPlayer::apply(const LessonState& state) {
+    // A pending check was of the state before: dropped (the student checks again).
+    for (Feedback& f : feedback_)
+        if (f.pending) {
+            f.pending = false;
+            f.message.clear();
+        }
+    applyLessonState(host_, state);
+}
 
 void LessonPlayer::goTo(size_t step) {
     if (step >= lesson_.steps.size())
@@ -99,6 +107,13 @@ const LessonPlayer::Feedback& LessonPlayer::checkTask() {
         f = {TaskStatus::NoTask, "this step has no task"};
         return f;
     }
+    std::string waiting;
+    if (!host_.taskBuffersReady(s.task->check.readsReference(), waiting)) {
+        f.pending = true;
+        f.message = "checking: waiting for " + waiting;
+        return f;
+    }
+    f.pending = false;
     TaskCondition::Outcome outcome = s.task->check.evaluate(host_.readTaskBuffers(s.task->check.readsReference()));
     if (f.status == TaskStatus::ShownAnswer && outcome.passed) {
         f.message = outcome.message;  // solved by show me: stays marked as shown
@@ -107,6 +122,13 @@ const LessonPlayer::Feedback& LessonPlayer::checkTask() {
     f.status = outcome.passed ? TaskStatus::Passed : TaskStatus::NotYet;
     f.message = outcome.message;
     return f;
+}
+
+bool LessonPlayer::finishCheck() {
+    Feedback& f = feedback_[step_];
+    if (!f.pending || !step().task) return false;
+    checkTask();
+    return !f.pending;
 }
 
 void LessonPlayer::showMe() {

@@ -18,6 +18,7 @@ public:
     struct Feedback {
         TaskStatus status = TaskStatus::NoTask;
         std::string message;  // what the condition measured, one line per term
+        bool pending = false;  // checked while what it reads was still being computed (the message says what)
     };
 
     // Applies step 0 to the host.
@@ -37,8 +38,13 @@ public:
     // Re-applies the current step's state (undo whatever the user changed).
     void restore();
 
-    // Renders and checks the current step's task; the feedback says what was measured.
+    // Renders and checks the current step's task; the feedback says what was measured. When the
+    // host is not ready (LessonHost::taskBuffersReady) the check is pending: its status unchanged,
+    // its message what it waits for, until finishCheck() runs it.
     const Feedback& checkTask();
+    // A pending check, run once the host is ready (true: it ran; the feedback has its result).
+    bool finishCheck();
+    bool checkPending() const { return feedback_[step_].pending; }
     // Applies the step's answer state (the task's "show me").
     void showMe();
     const Feedback& feedback() const { return feedback_[step_]; }

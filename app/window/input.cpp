@@ -13,6 +13,7 @@
 
 #include "error.h"
 #include "window/camera_control.h"
+#include "lesson/player.h"
 #include "window/window.h"
 
 namespace shadowlab {
@@ -414,6 +415,9 @@ void Window::runScriptStep() {
         if (!refDone || !shownDone || referenceVersion_ != version_ || interacting()) return;
         scriptWaitReference_ = 0;
     }
+    // A `lesson check` waiting for the reference it reads (Window::finishPendingCheck): the next
+    // command once it has run.
+    if (lesson_ && lesson_->checkPending()) return;
     while (!script_.empty()) {
         // save-visibility saves a complete frame: while the frame budget has it refined in slices
         // (or reduced), the script waits for it.
@@ -423,7 +427,10 @@ void Window::runScriptStep() {
         const auto& a = c.args;
         auto on = [&](size_t i) { return a[i] == "on"; };
         if (c.verb == "key") key(keyCode(a[0]), a.size() > 1 ? modsCode(a[1]) : 0);
-        else if (c.verb == "lesson") lessonAction(a[0]);
+        else if (c.verb == "lesson") {
+            lessonAction(a[0]);
+            if (lesson_ && lesson_->checkPending()) return;  // the next command once the check has run
+        }
         else if (c.verb == "technique") selectTechnique(a[0]);
         else if (c.verb == "scene") selectScene(a[0]);
         else if (c.verb == "param") setParam(a[0], a[1]);

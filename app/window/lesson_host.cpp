@@ -5,10 +5,11 @@
 //
 // What differs from the headless host (app/lesson/headless.cpp), and why:
 //   - "reference" is the window's progressive reference (the `reference` technique's stratified
-//     samples, N from the lesson's `reference reference samples=N`); a task that reads it completes
-//     it at once (a pause of a few seconds on llvmpipe) so the check sees the finished integral.
+//     samples, N from the lesson's `reference reference samples=N`); a task that reads it waits
+//     for it to complete (taskBuffersReady: the check is pending while the window keeps refining
+//     the reference in its frame budget) so the check sees the finished integral.
 //     "raytraced" is the window's progressive ray tracer (M from the step's `reference raytraced
-//     rays=M`, its default otherwise): a task's check waits for it to complete.
+//     rays=M`, its default otherwise): a task's check waits for it to complete the same way.
 //   - the lesson-only views `visibility` and `reference` are the technique view itself and the
 //     split against the reference; `shadow-map-texels` opens the `shadow-map` view.
 #include "gl/loader.h"  // before GLFW, which must not include GL/gl.h
@@ -101,6 +102,29 @@ public:
         else if (against == "reference") w_.setCompare(WindowState::Compare::Reference);
         else w_.setCompare(WindowState::Compare::Technique, against);
     }
+    bool taskBuffersReady(bool withReference, std::string& waiting) override {
+        // What readTaskBuffers would otherwise complete at once (a pause of seconds): the shown
+        // progressive source, and the progressive reference the task reads, for the current state.
+        const glm::ivec2 size = w_.renderSize();
+        auto pending = [&](ProgressiveSource& s, const char* what) {
+            if (&s == &w_.raytrace_)
+                w_.raytrace_.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
+                                  w_.state_.referenceRays);
+            else
+                w_.reference_.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
+                                   w_.state_.referenceSamples, w_.state_.referenceParams);
+            if (s.complete()) return false;
+            char text[128];
+            std::snprintf(text, sizeof text, "%s: %d of %d %s", what, s.done(), s.total(), s.unit());
+            waiting = text;
+            return true;
+        };
+        if (w_.state_.technique == "raytraced" && pending(w_.raytrace_, "raytraced")) return false;
+        if (w_.state_.technique == "reference" && pending(w_.reference_, "the reference")) return false;
+        if (withReference && referenceTechnique_ == "reference" && pending(w_.reference_, "the reference")) return false;
+        if (withReference && referenceTechnique_ == "raytraced" && pending(w_.raytrace_, "the raytraced reference")) return false;
+        return true;
+    }
     TaskBuffers readTaskBuffers(bool withReference) override {
         glm::ivec2 size = w_.renderSize();
         Renderer& r = *w_.renderer_;
@@ -190,12 +214,32 @@ void Window::lessonAction(const std::string& action) {
     else if (action == "previous") lesson_->previous();
     else if (action == "restore") lesson_->restore();
     else if (action == "check" && lesson_->step().task) {
-        const LessonPlayer::Feedback& f = lesson_->checkTask();
-        bool passed = f.status == LessonPlayer::TaskStatus::Passed || f.status == LessonPlayer::TaskStatus::ShownAnswer;
-        setStatus(std::string(passed ? "solved: " : "not yet: ") + f.message, !passed);
-        std::printf("lesson: step %zu: %s: %s\n", lesson_->stepIndex() + 1, passed ? "passed" : "not yet", f.message.c_str());
-        std::fflush(stdout);
+        lesson_->checkTask();
+        reportCheck();
     } else if (action == "show-me" && lesson_->step().task) lesson_->showMe();
+}
+
+void Window::reportCheck() {
+    const LessonPlayer::Feedback& f = lesson_->feedback();
+    if (f.pending) {  // the window keeps refining what it waits for; finishPendingCheck runs it
+        setStatus(f.message);
+        return;
+    }
+    const bool passed = f.status == LessonPlayer::TaskStatus::Passed || f.status == LessonPlayer::TaskStatus::ShownAnswer;
+    setStatus(std::string(passed ? "solved: " : "not yet: ") + f.message, !passed);
+    std::printf("lesson: step %zu: %s: %s\n", lesson_->stepIndex() + 1, passed ? "passed" : "not yet", f.message.c_str());
+    std::fflush(stdout);
+}
+
+// Each frame: a check that waited (the Check button, C or the script's `lesson check` while the
+// reference accumulated) runs once what it reads is complete, and prints as a check at once would.
+void Window::finishPendingCheck() {
+    if (!lesson_ || !lesson_->checkPending()) return;
+    if (!lesson_->finishCheck()) {
+        if (status_.rfind("checking: ", 0) == 0) status_ = lesson_->feedback().message;  // the progress so far
+        return;
+    }
+    reportCheck();
 }
 
 void Window::drawLesson(double seconds) {

@@ -146,6 +146,7 @@ void ProgressiveRaytrace::sync(const Scene& scene, const Camera& camera, const s
         RenderOptions options;
         options.width = width;
         options.height = height;
+        options.spareBytes = kSpareBytes;
         options.technique = "hard";  // only its G-buffer and shading run (shadeWith)
         options.cpuClock = true;
         renderer_ = std::make_unique<Renderer>(scene, options);

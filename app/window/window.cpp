@@ -175,6 +175,7 @@ bool Window::rebuildScene() {
         return false;
     }
     preview_ = MirrorRenderer();
+    previewSizes_.clear();
     compare_ = MirrorRenderer();
     comparePreview_ = MirrorRenderer();
     reference_.cancel();
@@ -190,6 +191,7 @@ bool Window::rebuildScene() {
     options.height = size.y;
     options.technique = showsReference() ? "hard" : state_.technique;
     options.cpuClock = true;
+    options.spareBytes = kSpareBytes;  // the layout changes its size: a return to a size allocates nothing
     renderer_ = std::make_unique<Renderer>(*scene_, options);
     for (const auto& [key, value] : state_.params) {
         try {
@@ -244,6 +246,7 @@ void Window::compileShaders() {
             setStatus(id + ": " + e.what(), true);
         }
     }
+    previewSizes_.insert({warm.x, warm.y});
     preview_.technique.clear();  // the next syncMirror sets the technique and parameters again
     glFinish();
     std::printf("shadowlab window: compiled the shaders of %d techniques for %s in %.1f s\n", count,
@@ -415,7 +418,8 @@ void Window::setReferenceRays(int rays) {
 }
 
 bool Window::referenceNeeded() const {
-    return state_.backgroundReference || state_.compare == WindowState::Compare::Reference || state_.errorView;
+    return state_.backgroundReference || state_.compare == WindowState::Compare::Reference || state_.errorView ||
+           (lesson_ && lesson_->checkPending());
 }
 
 void Window::syncReference(glm::ivec2 size) {
@@ -491,6 +495,14 @@ bool Window::composeLikely() const {
     return referenceInView && !ref().complete();
 }
 
+int Window::cachedPreviewDivisor(glm::ivec2 full, int from, int to) const {
+    for (int k = std::max(1, from); k <= to; ++k) {
+        const glm::ivec2 size = glm::max(glm::ivec2(1), full / k);
+        if (previewSizes_.count({size.x, size.y})) return k;
+    }
+    return 0;
+}
+
 Renderer& Window::syncMirror(MirrorRenderer& m, const std::string& technique,
                              const std::map<std::string, std::string>& params, glm::ivec2 size) {
     if (!m.renderer) {
@@ -500,6 +512,7 @@ Renderer& Window::syncMirror(MirrorRenderer& m, const std::string& technique,
         options.technique = technique;
         options.cpuClock = true;
         options.keepResources = &m == &preview_;  // the drag frames' renderer: see rebuildScene
+        options.spareBytes = kSpareBytes;  // the drag's divisor changes its size
         m.renderer = std::make_unique<Renderer>(*scene_, options);
         m.technique = technique;
         m.params.clear();
@@ -572,10 +585,31 @@ void Window::renderViews() {
     // when first needed, then adapted to what the drag's frames cost (1: the full resolution fits).
     auto factorIt = dragFactor_.find(costKey);
     if (factorIt == dragFactor_.end() && dragging) {
-        // Without a full frame's cost (the technique's first frame is still being refined), the
-        // divisor the drag renderer was warmed at (rebuildScene): its textures are that size.
-        const int initial = knownCost > 0.0 ? int(std::ceil(std::sqrt(knownCost / budget))) : software_ ? kWarmDivisor : 1;
-        factorIt = dragFactor_.emplace(costKey, std::clamp(initial, 1, std::max(1, state_.reduceFactor))).first;
+        // Without a full frame's cost, what the refinement under way forecasts (its work so far
+        // over its progress: ssm-gbp06's first refinement on plant takes ~80 frames, a drag may
+        // start before); without either, the divisor the drag renderer was warmed at
+        // (compileShaders): its textures are that size. Sized for 60% of the budget.
+        const double estimate = knownCost > 0.0 ? knownCost
+                                : refineSize_ == full && refineProgress_ > 0.05 && refineProgress_ < 1.0
+                                    ? refineWorkMs_ / refineProgress_ : -1.0;
+        // The light-space passes cost the same at any size (ssm-gbp06's HSM ~10 ms): the rest of
+        // the frame is what the divisor divides.
+        double lightSpace = 0.0;
+        for (const PassRecord& r : renderer_->graph().records())
+            if (r.technique == costKey && !renderer_->bandedPasses().count(r.name) && !r.times.empty())
+                lightSpace += r.times.back().second;
+        const double room = std::max(0.3 * budget, 0.6 * budget - lightSpace);
+        const int initial = estimate > 0.0 ? int(std::ceil(std::sqrt(std::max(0.0, estimate - lightSpace) / room)))
+                            : software_ ? kWarmDivisor : 1;
+        int start = std::clamp(initial, 1, std::max(1, state_.reduceFactor));
+        // A size the drag renderer has textures for when one is as small (down to the size it is
+        // warmed at): a resize at the drag's first frame costs more than its render (40 ms to
+        // 512x304); the divisor then steps down as the frames allow.
+        if (start > 1) {
+            const int cached = cachedPreviewDivisor(full, start, std::min(std::max(2 * start, int(kWarmDivisor)), std::max(1, state_.reduceFactor)));
+            if (cached > 0) start = cached;
+        }
+        factorIt = dragFactor_.emplace(costKey, start).first;
     }
     int notDragging = 1;  // no divisor yet: this frame does not drag
     int& dragFactor = factorIt == dragFactor_.end() ? notDragging : factorIt->second;
@@ -589,19 +623,37 @@ void Window::renderViews() {
         } else if (!dragging && knownCost > budget && previewVersion_ != version_ && refineVersion_ != version_) {
             reduce = true;  // a preview of the change first (sized by the last full frame's cost), then the refinement
             factor = std::clamp(int(std::ceil(std::sqrt(knownCost / budget))), 2, std::max(2, state_.reduceFactor));
+            // At a size the drag renderer has textures for, or none: a first resize to a size costs
+            // more than the preview (pcf's preview at 1/2 on plant: 16 ms to render, 60 ms in all);
+            // then the view keeps its last picture while the change is refined.
+            const int cached = cachedPreviewDivisor(full, factor, std::max(2, state_.reduceFactor));
+            if (cached > 0) factor = cached;
+            else reduce = false;
         }
     }
     const glm::ivec2 size = reduce ? glm::max(glm::ivec2(1), full / factor) : full;
     if (renderer_->width() != full.x || renderer_->height() != full.y) {
         renderer_->resize(full.x, full.y);
         raytrace_.resizeRenderer(full.x, full.y);
+        // The drag renderer at the new view's 1/kWarmDivisor too (its frame textures, a few ms):
+        // a drag's first frame can start there instead of paying for a resize.
+        if (preview_.renderer) {
+            const glm::ivec2 warm = glm::max(glm::ivec2(1), full / kWarmDivisor);
+            preview_.renderer->resize(warm.x, warm.y);
+            previewSizes_.insert({warm.x, warm.y});
+        }
     }
     if (reduce && !dragging) previewVersion_ = version_;
     const std::string rendered = showsReference() ? "hard" : state_.technique;
     const glm::ivec2 previewBefore = preview_.renderer ? glm::ivec2(preview_.renderer->width(), preview_.renderer->height()) : glm::ivec2(0);
+    auto syncStart = clock::now();
     Renderer& target = reduce ? syncMirror(preview_, rendered, state_.params, size) : *renderer_;
-    // A frame right after a resize pays for new textures: it says nothing about the divisor.
+    // A frame right after a resize pays for new textures: it says nothing about the divisor, but
+    // what the textures cost a pixel (a step down the divisors may pay it once).
     const bool previewResized = reduce && previewBefore != size;
+    if (previewResized && !previewSizes_.count({size.x, size.y}) && size.x * size.y > 10000)
+        previewAllocMsPerPixel_ = 0.5 * previewAllocMsPerPixel_ + 0.5 * msSince(syncStart) / double(size.x * size.y);
+    if (reduce) previewSizes_.insert({size.x, size.y});
 
     // The ray tracer's worker stops as soon as the state it traces is gone (a drag's first frame),
     // before this frame renders: its rays would be thrown away, and on two cores they slow the
@@ -627,7 +679,15 @@ void Window::renderViews() {
         // Up in proportion to the overrun (not its root: a drag frame's light-space passes cost the
         // same at any size, so the area is only part of it).
         if (renderMs_ > budget) dragFactor = std::min(std::max(1, state_.reduceFactor), int(std::ceil(f * renderMs_ / budget)));
-        else if (factor > 1 && renderMs_ * (f * f) / ((f - 1) * (f - 1)) < 0.67 * budget) dragFactor = factor - 1;
+        // Down when the larger frame would still leave a third of the budget, and this once with
+        // the textures of a size the drag renderer has not been at yet (a first resize costs
+        // 35-40 ms at 512x304 on llvmpipe, ~0.25 us a pixel; sizes it has been at are kept).
+        else if (factor > 1) {
+            const double larger = renderMs_ * (f * f) / ((f - 1) * (f - 1));
+            const glm::ivec2 next = glm::max(glm::ivec2(1), full / (factor - 1));
+            const double allocate = cachedPreviewDivisor(full, factor - 1, factor - 1) > 0 ? 0.0 : previewAllocMsPerPixel_ * next.x * next.y;
+            if (larger < 0.67 * budget && larger + allocate < budget) dragFactor = factor - 1;
+        }
     }
     if (!reduce) {
         if (refineVersion_ != version_ || refineSize_ != size) {  // a new frame to make: its work starts at 0
@@ -937,6 +997,7 @@ double Window::frame() {
     drawAccuracyChart();
     lap(phaseMs_[0]);
     renderViews();
+    finishPendingCheck();
     updateViews();
     lap(phaseMs_[1]);
     present();

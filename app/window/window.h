@@ -14,6 +14,7 @@
 #include <deque>
 #include <glm/glm.hpp>
 #include <map>
+#include <set>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,6 +32,10 @@
 struct GLFWwindow;
 
 namespace shadowlab {
+
+// What a resize of one of the window's renderers replaced, kept for a return to that size (the
+// layout and the drag's divisor change their sizes back and forth): RenderOptions::spareBytes.
+constexpr size_t kSpareBytes = size_t(512) << 20;
 
 class VtkOffscreen;
 class RayTracer;
@@ -290,6 +295,8 @@ private:
     friend struct WindowUi;
     friend class WindowLessonHost;
     bool lessonKey(int key) const;     // a key the open lesson's panel reads (the window ignores it)
+    void reportCheck();                // the current step's check in the status line and on stdout
+    void finishPendingCheck();         // a check waiting for a progressive reference, once it is complete
     void drawLesson(double seconds);   // the lesson panel, and the step's animation advanced
     void recordAccuracyPoint();        // the current setting's shadow_ms and RMSE (metrics just computed)
     void drawAccuracyChart();
@@ -332,6 +339,10 @@ private:
     Renderer& syncMirror(MirrorRenderer& m, const std::string& technique,
                          const std::map<std::string, std::string>& params, glm::ivec2 size);
     MirrorRenderer preview_, compare_, comparePreview_;
+    std::set<std::pair<int, int>> previewSizes_;  // the sizes preview_ has rendered at (its spares)
+    // The smallest divisor in [from, to] at which preview_ has rendered at a `full` view, or 0.
+    int cachedPreviewDivisor(glm::ivec2 full, int from, int to) const;
+    double previewAllocMsPerPixel_ = 0.25e-3;  // what a first resize of preview_ costs a pixel (measured)
     static constexpr int kWarmDivisor = 8;  // the drag renderer's size at scene load: the view's / 8
     const Renderer& shownRenderer() const { return reduced_ ? *preview_.renderer : *renderer_; }
     const Renderer* shownCompare() const {

@@ -353,6 +353,46 @@ TEST(LessonPlayer, TaskFailsInItsStepAndPassesWithShowMe) {
     EXPECT_FLOAT_EQ(player.progress(), 1.0f);
 }
 
+// A host still accumulating what the task reads (the window's progressive reference): the check
+// is pending, its message says what it waits for, nothing is read; finishCheck runs it once the
+// host is ready; a step change drops it.
+TEST(LessonPlayer, ACheckWaitsForAHostThatIsNotReady) {
+    struct SlowHost : FakeHost {
+        int ready = 0;  // calls until ready
+        bool taskBuffersReady(bool withReference, std::string& waiting) override {
+            EXPECT_TRUE(withReference);  // min(reference) reads it
+            if (ready-- > 0) {
+                waiting = "the reference: 3 of 8 samples";
+                return false;
+            }
+            return true;
+        }
+    } host;
+    LessonPlayer player(parseLesson(kTaskLesson, "lessons/t.md", "t"), host);
+    player.goTo(2);
+    host.ready = 2;
+    const int reads = host.taskReads;
+    const LessonPlayer::Feedback& f = player.checkTask();
+    EXPECT_TRUE(f.pending);
+    EXPECT_TRUE(player.checkPending());
+    EXPECT_EQ(f.status, LessonPlayer::TaskStatus::NotChecked);
+    EXPECT_EQ(f.message, "checking: waiting for the reference: 3 of 8 samples");
+    EXPECT_EQ(host.taskReads, reads);
+    EXPECT_FALSE(player.finishCheck());  // still not ready
+    EXPECT_TRUE(player.finishCheck());
+    EXPECT_FALSE(player.checkPending());
+    EXPECT_EQ(player.feedback().status, LessonPlayer::TaskStatus::NotYet);
+    EXPECT_EQ(host.taskReads, reads + 1);
+    EXPECT_FALSE(player.finishCheck());  // nothing pending: nothing runs
+    EXPECT_EQ(host.taskReads, reads + 1);
+    host.ready = 5;
+    player.checkTask();
+    ASSERT_TRUE(player.checkPending());
+    player.restore();  // the state it was checking is gone
+    EXPECT_FALSE(player.checkPending());
+    EXPECT_TRUE(player.feedback().message.empty());
+}
+
 TEST(LessonPlayer, AnimationSweepsTheValueBackAndForth) {
     FakeHost host;
     LessonPlayer player(parseLesson(kTaskLesson, "lessons/t.md", "t"), host);

@@ -116,7 +116,15 @@ TEST(PassGraphSliced, AChangedInputStartsThePassOver) {
     ASSERT_EQ(p, 1.0);
     ASSERT_FALSE(g.pieces.empty());
     EXPECT_EQ(g.pieces.front().first, 0);
-    EXPECT_EQ(g.pieces.back().second, 100);
+    // Every unit again (in scattered bands: the abandoned refinements knew only a few units' cost).
+    std::vector<std::pair<int, int>> sorted = g.pieces;
+    std::sort(sorted.begin(), sorted.end());
+    int next = 0;
+    for (auto [from, to] : sorted) {
+        EXPECT_EQ(from, next);
+        next = to;
+    }
+    EXPECT_EQ(next, 100);
 }
 
 TEST(PassGraphSliced, ARunWholeDropsTheHalfDoneFrame) {
@@ -196,11 +204,12 @@ RenderOptions hardAt64x48() {
     return options;
 }
 
-// A piece writes its rows only (the scissor bounds the work): after one piece of a new camera's
-// G-buffer, the two rows at the bottom hold the new camera's positions and every other row the old.
-TEST_F(RefineFrameTest, APieceWritesOnlyItsRows) {
-    Scene scene = loadScene("square-occluder");
-    const RenderOptions options = hardAt64x48();
+// The G-buffer's positions under the scene's camera (before), a moved camera (after), and after
+// the first piece of the moved camera's refinement on a renderer that had the first (refined).
+struct FirstPiece {
+    Image before, after, refined;
+};
+FirstPiece firstPieceOfAMovedCamera(const Scene& scene, const RenderOptions& options) {
     Renderer a(scene, options), b(scene, options), r(scene, options);
     Camera moved = scene.camera;
     moved.position += glm::vec3(0.7f, -0.4f, 0.2f);
@@ -210,7 +219,14 @@ TEST_F(RefineFrameTest, APieceWritesOnlyItsRows) {
     r.renderFrame(0, {"gbuffer"});
     r.setCamera(moved);
     EXPECT_LT(r.refineFrame(1, {"gbuffer"}, 0.001), 1.0);
-    Image pa = a.positions(), pb = b.positions(), pr = r.positions();
+    return {a.positions(), b.positions(), r.positions()};
+}
+
+// A piece writes its rows only (the scissor bounds the work): after one piece of a new camera's
+// G-buffer, the two rows at the bottom hold the new camera's positions and every other row the old.
+TEST_F(RefineFrameTest, APieceWritesOnlyItsRows) {
+    const FirstPiece p = firstPieceOfAMovedCamera(loadScene("square-occluder"), hardAt64x48());
+    const Image &pa = p.before, &pb = p.after, &pr = p.refined;
     int newRows = 0, oldRows = 0, other = 0;
     for (int y = 0; y < pr.height; ++y) {  // Image rows count from the top: GL's rows 0-1 are the last two
         bool isNew = true, isOld = true;
@@ -233,6 +249,143 @@ TEST_F(RefineFrameTest, APieceWritesOnlyItsRows) {
     EXPECT_EQ(newRows, 2);
     EXPECT_GE(oldRows, pr.height / 2);  // rows the two cameras see alike (background) count as neither
     EXPECT_EQ(other, 0);
+}
+
+// A frame wider than a tile (Renderer::kTileColumns) runs in tiles of two rows, several a row: the
+// first piece of a new camera's G-buffer is the bottom-left tile only, and the frame refined one tile
+// a call equals the frame run whole (tolerance as above).
+TEST_F(RefineFrameTest, TilesAcrossARowWriteOnlyTheirPixelsAndAddUpToTheWholeFrame) {
+    Scene scene = loadScene("plant");
+    RenderOptions options;
+    options.width = 300;  // tiles of 128, 128 and 44 columns
+    options.height = 40;
+    for (const char* technique : {"hard", "ssm-contour"}) {
+        SCOPED_TRACE(technique);
+        options.technique = technique;
+        Renderer whole(scene, options), refined(scene, options);
+        ASSERT_EQ(refined.tileColumns(), 3);
+        whole.renderFrame(0, {"image", "visibility"});
+        int calls = 0;
+        double progress = 0.0;
+        while (progress < 1.0 && calls < 4000) {
+            progress = refined.refineFrame(0, {"image", "visibility"}, 0.001);
+            ++calls;
+        }
+        ASSERT_EQ(progress, 1.0);
+        EXPECT_GT(calls, 60);  // the G-buffer's 3 x 20 tiles one by one
+        const Image a = whole.visibility(), b = refined.visibility();
+        double worst = 0.0;
+        for (size_t i = 0; i < a.data.size(); ++i) worst = std::max(worst, double(std::abs(a.data[i] - b.data[i])));
+        EXPECT_LE(worst, 1e-5);
+    }
+    options.technique = "hard";
+    const FirstPiece p = firstPieceOfAMovedCamera(scene, options);
+    const Image &pb = p.before, &pa = p.after, &pr = p.refined;
+    int newOutside = 0, newInside = 0, oldInside = 0;
+    for (int y = 0; y < pr.height; ++y)
+        for (int x = 0; x < pr.width; ++x) {
+            const bool inside = y >= pr.height - 2 && x < Renderer::kTileColumns;  // GL rows 0-1, the first tile
+            const float v = pr.at(x, y, 0), va = pa.at(x, y, 0), vb = pb.at(x, y, 0);
+            const bool isNew = std::isnan(v) ? std::isnan(va) : v == va;
+            const bool isOld = std::isnan(v) ? std::isnan(vb) : v == vb;
+            if (isNew && !isOld) ++(inside ? newInside : newOutside);
+            if (inside && isOld && !isNew) ++oldInside;
+        }
+    EXPECT_EQ(newOutside, 0);
+    EXPECT_GT(newInside, 0);
+    EXPECT_EQ(oldInside, 0);
+}
+
+// A refinement abandoned after a few scattered bands (a drag started) leaves a history that knows
+// a few units: the next refinement of the pass is scattered again, not contiguous pieces sized by
+// the mean of those few (which under-forecast a penumbra by 10x on plant).
+TEST(PassGraphSliced, APartlyKnownHistoryIsNoForecast) {
+    FakeGraph g;
+    g.graph.executeSliced({"image"}, 0, g.timer, 10.0, g.slicing);  // the map and a few bands
+    ASSERT_FALSE(g.pieces.empty());
+    ASSERT_LT(g.pieces.size(), 20u);
+    g.graph.setSource("camera", 3);  // a change: the half-done lookup is abandoned
+    g.pieces.clear();
+    double p = 0.0;
+    for (int call = 0; call < 40 && p < 1.0; ++call) p = g.graph.executeSliced({"image"}, 1, g.timer, 10.0, g.slicing);
+    ASSERT_EQ(p, 1.0);
+    EXPECT_FALSE(std::is_sorted(g.pieces.begin(), g.pieces.end()));  // scattered bands again
+    // Complete now: the next refinement has a forecast.
+    g.graph.setSource("camera", 4);
+    g.pieces.clear();
+    p = 0.0;
+    for (int call = 0; call < 40 && p < 1.0; ++call) p = g.graph.executeSliced({"image"}, 2, g.timer, 10.0, g.slicing);
+    EXPECT_TRUE(std::is_sorted(g.pieces.begin(), g.pieces.end()));
+}
+
+// With a forecast, a unit is expected to cost what the dearest unit near it cost: rows that were
+// cheap next to a dear one are not run in one piece with it (a penumbra that moved a row).
+TEST(PassGraphSliced, AForecastTakesTheDearestNeighbour) {
+    FakeGraph g;
+    // Unit 50 costs 20 ms, the others 0.1 ms: a complete first refinement learns it.
+    g.slicing.runUnits = [&g](const std::string&, int from, int to, const std::function<void()>&) {
+        g.pieces.emplace_back(from, to);
+        g.lastCost = 0.0;
+        for (int k = from; k < to; ++k) g.lastCost += k == 50 ? 20.0 : 0.1;
+    };
+    double p = 0.0;
+    for (int call = 0; call < 200 && p < 1.0; ++call) p = g.graph.executeSliced({"image"}, 0, g.timer, 10.0, g.slicing);
+    ASSERT_EQ(p, 1.0);
+    // The dear unit moves to 53; the forecast of 53 is 50's cost (within kForecastRows rows).
+    g.slicing.runUnits = [&g](const std::string&, int from, int to, const std::function<void()>&) {
+        g.pieces.emplace_back(from, to);
+        g.lastCost = 0.0;
+        for (int k = from; k < to; ++k) g.lastCost += k == 53 ? 20.0 : 0.1;
+    };
+    g.graph.setSource("camera", 9);
+    g.pieces.clear();
+    p = 0.0;
+    double worst = 0.0;
+    for (int call = 0; call < 200 && p < 1.0; ++call) {
+        const size_t before = g.pieces.size();
+        p = g.graph.executeSliced({"image"}, 1, g.timer, 10.0, g.slicing);
+        double ms = 0.0;
+        for (size_t i = before; i < g.pieces.size(); ++i)
+            for (int k = g.pieces[i].first; k < g.pieces[i].second; ++k) ms += k == 53 ? 20.0 : 0.1;
+        // A call runs 53 in a piece of its own (or with only a few cheap units): never 53 on top
+        // of a budget's worth of cheap ones.
+        for (size_t i = before; i < g.pieces.size(); ++i)
+            if (g.pieces[i].first <= 53 && 53 < g.pieces[i].second) worst = std::max(worst, ms);
+    }
+    ASSERT_EQ(p, 1.0);
+    EXPECT_LE(worst, 20.0 + 8 * 0.1 + 1e-9);
+}
+
+// The window's renderers keep what a resize replaced (RenderOptions::spareBytes): a return to a size
+// allocates nothing (the same textures come back), and the frame there is the frame of a fresh
+// renderer; with no spares allowed, nothing is kept.
+TEST_F(RefineFrameTest, AReturnToASizeReusesItsTexturesAndRendersTheSameFrame) {
+    Scene scene = loadScene("square-occluder");
+    RenderOptions options = hardAt64x48();
+    options.spareBytes = size_t(64) << 20;
+    Renderer r(scene, options), fresh(scene, hardAt64x48());
+    r.renderFrame(0, {"image", "visibility"});
+    const GLuint visibilityId = r.pool().find("frame/visibility")->texture.id();
+    const GLuint positionId = r.pool().find("frame/gbuffer.position")->texture.id();
+    r.resize(32, 24);
+    r.renderFrame(1, {"image", "visibility"});
+    EXPECT_GT(r.pool().spareBytes(), 0u);
+    r.resize(64, 48);
+    EXPECT_EQ(r.pool().find("frame/visibility")->texture.id(), visibilityId);
+    EXPECT_EQ(r.pool().find("frame/gbuffer.position")->texture.id(), positionId);
+    r.renderFrame(2, {"image", "visibility"});
+    fresh.renderFrame(2, {"image", "visibility"});
+    const Image a = r.visibility(), b = fresh.visibility();
+    ASSERT_EQ(a.data.size(), b.data.size());
+    for (size_t i = 0; i < a.data.size(); ++i) ASSERT_EQ(a.data[i], b.data[i]) << i;
+    // The spares stay under their bound, the oldest dropped first; 0 keeps nothing.
+    r.pool().setSpareBytes(1);
+    EXPECT_EQ(r.pool().spareBytes(), 0u);
+    Renderer none(scene, hardAt64x48());
+    none.renderFrame(0, {"visibility"});
+    none.resize(32, 24);
+    none.renderFrame(1, {"visibility"});
+    EXPECT_EQ(none.pool().spareBytes(), 0u);
 }
 
 }  // namespace

@@ -8,6 +8,15 @@
 
 namespace shadowlab {
 
+namespace {
+// executeSliced: without a forecast, a pass runs in this many scattered bands (rows differ 40-80x
+// in cost, so the first bands sample the whole frame); with one, a unit's forecast is the dearest
+// unit within this many rows of units of it.
+constexpr int kScatteredBands = 512;
+constexpr int kForecastRows = 8;
+constexpr double kForecastCoverage = 0.9;  // the fraction of units whose cost must be known
+}  // namespace
+
 uint64_t hashBytes(const void* data, size_t size, uint64_t seed) {
     const unsigned char* bytes = static_cast<const unsigned char*>(data);
     uint64_t h = seed;
@@ -315,13 +324,17 @@ double PassGraph::executeSliced(const std::set<std::string>& requested, int fram
             partial_.total = units;
             partial_.cost.assign(size_t(units), -1.0f);
             const std::vector<float>& h = unitCost_[node.name];
-            partial_.forecast = h.size() == size_t(units) && std::any_of(h.begin(), h.end(), [](float c) { return c >= 0.0f; });
+            // A forecast needs what (nearly) every unit cost: an abandoned refinement in scattered
+            // bands (a drag started mid-way) knows a few bands, and the mean of those under-forecasts
+            // a penumbra by 10x.
+            const auto known = std::count_if(h.begin(), h.end(), [](float c) { return c >= 0.0f; });
+            partial_.forecast = h.size() == size_t(units) && double(known) >= kForecastCoverage * double(units);
             if (!partial_.forecast) {
-                // No forecast: bands of 1/128 of the pass in a scattered order (stride coprime to the
+                // No forecast: bands of 1/kScatteredBands of the pass in a scattered order (stride coprime to the
                 // band count, near its golden section), so the first bands sample the whole frame
                 // and their mean cost predicts the next band's (rows differ a lot: sky is cheap,
                 // a penumbra under foliage dear).
-                partial_.band = std::max(1, units / 128);
+                partial_.band = std::max(1, units / kScatteredBands);
                 const int bands = (units + partial_.band - 1) / partial_.band;
                 partial_.stride = std::max(1, int(double(bands) * 0.6180339887));
                 while (std::gcd(partial_.stride, bands) != 1) ++partial_.stride;
@@ -360,7 +373,30 @@ double PassGraph::executeSliced(const std::set<std::string>& requested, int fram
         for (float c : history)
             if (c >= 0.0f) known += c, ++knownCount;
         const double meanUnit = knownCount ? known / knownCount : 0.0;
-        auto forecastOf = [&](int k) { return history[size_t(k)] >= 0.0f ? double(history[size_t(k)]) : meanUnit; };
+        // What a unit is expected to cost: the dearest of its neighbours in that refinement (a tile
+        // either side, kForecastRows rows of tiles above and below), so a penumbra that moved a
+        // little since (a dragged light) does not land in a piece sized for the sky.
+        std::vector<double> expected;
+        if (partial_.forecast) {
+            const int perRow = std::max(1, slicing.unitsPerRow), n = int(history.size());
+            std::vector<double> across(history.size());
+            for (int k = 0; k < n; ++k) {
+                const int row = k / perRow, col = k % perRow;
+                double m = 0.0;
+                for (int c = std::max(0, col - 1); c <= std::min(perRow - 1, col + 1); ++c) {
+                    const int j = row * perRow + c;
+                    if (j < n) m = std::max(m, history[size_t(j)] >= 0.0f ? double(history[size_t(j)]) : meanUnit);
+                }
+                across[size_t(k)] = m;
+            }
+            expected.assign(history.size(), 0.0);
+            for (int k = 0; k < n; ++k)
+                for (int d = -kForecastRows; d <= kForecastRows; ++d) {
+                    const int j = k + d * perRow;
+                    if (j >= 0 && j < n) expected[size_t(k)] = std::max(expected[size_t(k)], across[size_t(j)]);
+                }
+        }
+        auto forecastOf = [&](int k) { return expected[size_t(k)]; };
         while (partial_.done < partial_.total) {
             const double left = std::max(budgetMs - spent, 0.0);
             if (ranSomething && left <= 0.0) break;
@@ -374,6 +410,7 @@ double PassGraph::executeSliced(const std::set<std::string>& requested, int fram
                 double predicted = 0.0;
                 int count = 0;
                 while (count < rest && (predicted + forecastOf(from + count)) * scale <= left) predicted += forecastOf(from + count++);
+                if (count == 0 && ranSomething) break;  // the next unit is forecast over what is left: the next call
                 to = from + std::clamp(count, 1, rest);
             } else {
                 const int bands = (partial_.total + partial_.band - 1) / partial_.band;

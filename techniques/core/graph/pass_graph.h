@@ -77,9 +77,10 @@ public:
 
     // ---- progressive execution (the window's frame budget) ----
     // A pass the graph may run a part at a time: `units(pass)` pieces of work (the renderer's
-    // frame-size passes: pairs of rows), `runUnits(pass, from, to, run)` runs pieces [from, to) of it
-    // (`run` is the pass's own function, called with the pieces' scissor set). A pass
-    // with 0 units runs whole.
+    // frame-size passes: tiles of two rows, row by row), `runUnits(pass, from, to, run)` runs pieces
+    // [from, to) of it (`run` is the pass's own function, called with the pieces' scissor set). A
+    // pass with 0 units runs whole. `unitsPerRow` says how units lie on the image (a row of tiles),
+    // for the forecast of a unit from its neighbours' costs.
     struct Slicing {
         std::function<int(const std::string& pass)> units;
         std::function<void(const std::string& pass, int from, int to, const std::function<void()>& run)> runUnits;
@@ -87,6 +88,7 @@ public:
         // steps that are pieces of work of their own: returns -1 when there was nothing to do, 0
         // after a step with more to do, 1 after the last step. Optional.
         std::function<int(const std::string& pass)> prepare;
+        int unitsPerRow = 1;
     };
     // Runs frame `frame` as execute() does, but stops once `budgetMs` is spent (after at least one
     // piece of work) and resumes where it stopped on the next call: a pass with units runs as many

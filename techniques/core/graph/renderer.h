@@ -2,6 +2,7 @@
 // (DESIGN.md section 3), with live state: every setter bumps exactly the versions it changes, so
 // the next frame re-runs exactly the passes that read them.
 #pragma once
+#include <algorithm>
 #include <glm/glm.hpp>
 #include <map>
 #include <memory>
@@ -36,6 +37,9 @@ struct RenderOptions {
     // true: a technique switch keeps the resources of the techniques used before (the window's
     // drag renderer: switching back allocates nothing; on llvmpipe a frame's textures cost ~0.1 s).
     bool keepResources = false;
+    // What a resize replaced, kept up to this many bytes for a return to its size (ResourcePool::
+    // setSpareBytes): the window's renderers, whose size follows the layout and the drag's divisor.
+    size_t spareBytes = 0;
 };
 
 class Renderer {
@@ -65,6 +69,9 @@ public:
     void shadeWith(int frame, const std::vector<const Texture*>& visibility, int y0 = 0, int y1 = -1);
     // The passes refineFrame runs in bands (their names in the graph).
     const std::set<std::string>& bandedPasses() const { return banded_; }
+    // refineFrame's pieces: tiles of kTileColumns columns by two rows, tileColumns() of them a row.
+    static constexpr int kTileColumns = 128;
+    int tileColumns() const { return std::max(1, (frame_.width + kTileColumns - 1) / kTileColumns); }
 
     // ---- live state: each setter bumps exactly the versions it changes (checked by tests).
     // Technique of one light (or of every light: light = -1); its parameters start at their defaults.
@@ -116,6 +123,7 @@ public:
 
     const PassGraph& graph() const { return graph_; }
     const ResourcePool& pool() const { return pool_; }
+    ResourcePool& pool() { return pool_; }
     std::vector<const LightState*> lights() const;
     const Light& lightAt(size_t index) const { return lights_.at(index)->state.light; }
     const Camera& camera() const { return frame_.camera; }

@@ -83,6 +83,28 @@ int Resource::levels() const { return desc.kind == ResourceKind::Pyramid ? textu
 ResourcePool::~ResourcePool() {
     for (auto& [name, r] : resources_)
         if (r->buffer) glDeleteBuffers(1, &r->buffer);
+    for (auto& [name, r] : spares_)
+        if (r->buffer) glDeleteBuffers(1, &r->buffer);
+}
+
+void ResourcePool::setSpareBytes(size_t bytes) {
+    spareLimit_ = bytes;
+    trimSpares();
+}
+
+size_t ResourcePool::spareBytes() const {
+    size_t total = 0;
+    for (const auto& [name, r] : spares_) total += r->bytes();
+    return total;
+}
+
+void ResourcePool::trimSpares() {
+    size_t total = spareBytes();
+    while (!spares_.empty() && total > spareLimit_) {
+        total -= spares_.front().second->bytes();
+        if (spares_.front().second->buffer) glDeleteBuffers(1, &spares_.front().second->buffer);
+        spares_.pop_front();
+    }
 }
 
 static bool sameDeclaration(const ResourceDesc& a, const ResourceDesc& b) {
@@ -98,7 +120,24 @@ Resource& ResourcePool::ensure(const std::string& qualifiedName, const ResourceD
     if (width < 1 || height < 1)
         throw InternalError("resource " + qualifiedName + ": size " + std::to_string(width) + "x" +
                             std::to_string(height) + " from rule '" + desc.size.describe() + "'");
-    release(qualifiedName);
+    if (spareLimit_ > 0 && it != resources_.end() && it->second->desc.kind != ResourceKind::Mesh &&
+        sameDeclaration(it->second->desc, desc)) {
+        spares_.emplace_back(qualifiedName, std::move(it->second));  // another size: kept for a return to it
+        resources_.erase(it);
+        trimSpares();
+    } else {
+        release(qualifiedName);
+    }
+    for (auto s = spares_.begin(); s != spares_.end(); ++s)
+        if (s->first == qualifiedName && sameDeclaration(s->second->desc, desc) && s->second->width == width &&
+            s->second->height == height) {
+            std::unique_ptr<Resource> back = std::move(s->second);
+            spares_.erase(s);
+            back->desc = desc;
+            Resource& ref = *back;
+            resources_[qualifiedName] = std::move(back);
+            return ref;
+        }
     auto r = std::make_unique<Resource>();
     r->desc = desc;
     r->width = width;

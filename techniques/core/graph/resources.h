@@ -5,6 +5,7 @@
 // changed, the window resized), frees it when it no longer applies, and reports its memory.
 #pragma once
 #include <glm/glm.hpp>
+#include <deque>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -99,12 +100,22 @@ public:
     void release(const std::string& qualifiedName);
     // Frees every resource whose name is not in `keep`.
     void releaseAllBut(const std::vector<std::string>& keep);
-    size_t totalBytes() const;
+    size_t totalBytes() const;  // the live resources (not the spares)
+    // Keeps what a change of size replaces, up to `bytes` in all (the oldest dropped first), and
+    // hands it back when its name, declaration and size are asked for again: the window's drag
+    // renderer changes its divisor as the frames' cost moves, and allocating a frame-size float
+    // texture costs ~20 ms on llvmpipe (a resize of the drag renderer, 40 ms at 512x304). 0, the
+    // default: nothing kept.
+    void setSpareBytes(size_t bytes);
+    size_t spareBytes() const;  // what the spares hold now
     nlohmann::json describe() const;  // [{name, kind, format, size, levels, layers, bytes, doc}]
     const std::map<std::string, std::unique_ptr<Resource>>& all() const { return resources_; }
 
 private:
+    void trimSpares();
     std::map<std::string, std::unique_ptr<Resource>> resources_;
+    std::deque<std::pair<std::string, std::unique_ptr<Resource>>> spares_;  // oldest first
+    size_t spareLimit_ = 0;
 };
 
 }  // namespace shadowlab
