@@ -115,9 +115,11 @@ bool runPhases(const std::string& scene, const std::string& technique, const std
     for (size_t s : switches)
         for (size_t i = s; i < std::min({frames.size(), s + 10, dragStart}); ++i)
             if (frames[i]["technique"] == technique) out.afterSwitch.push_back(frames[i]["frame_ms"]);
-    // After the drag: its refinement at full size and the half second before the reference starts.
-    for (size_t i = dragEnd + 1; i < frames.size() && frames[i]["reference_samples"].get<int>() == 0; ++i)
-        out.refine.push_back(frames[i]["frame_ms"]);
+    // After the drag: its refinement at full size, to its complete frame, and five frames after.
+    size_t refined = dragEnd + 1;
+    while (refined < frames.size() && !(frames[refined]["complete"].get<bool>() && !frames[refined]["reduced"].get<bool>()))
+        ++refined;
+    for (size_t i = dragEnd + 1; i < std::min(frames.size(), refined + 6); ++i) out.refine.push_back(frames[i]["frame_ms"]);
     // Idle: after the drag's last frame and its refinement, while the reference accumulates (or
     // shows a new batch).
     for (size_t i = dragEnd + 3; i < frames.size(); ++i)

@@ -319,7 +319,7 @@ void Window::drawUi() {
             ImGui::Text("%dx%d   clock %s", shownRenderer().width(), shownRenderer().height(), renderer_->clockName());
             if (!shownText().empty()) {
                 ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", shownText().c_str());
-                tooltip("the frame budget: a frame that does not fit 36 ms is shown at a reduced resolution while "
+                tooltip("the frame budget: a frame that does not fit 33 ms is shown at a reduced resolution while "
                         "dragging, then refined at full resolution in slices over the next frames (README)");
             }
             if (state_.technique == "reference") {

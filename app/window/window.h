@@ -396,7 +396,7 @@ private:
     glm::vec2 mouse_{0};
     bool reduced_ = false;      // this frame rendered at reduced resolution
     // The frame budget (README "The frame budget"): the UI frame aims at kFrameBudgetMs.
-    static constexpr double kFrameBudgetMs = 36.0;
+    static constexpr double kFrameBudgetMs = 33.0;
     double renderBudgetMs() const;  // what the technique and the reference may spend this frame
     bool composeLikely() const;     // this frame's picture may change: a composition to pay for
     // What the technique view shows when it is not the complete frame: "refining, 40%", "reduced

@@ -259,7 +259,7 @@ TEST_F(RefineFrameTest, TilesAcrossARowWriteOnlyTheirPixelsAndAddUpToTheWholeFra
     RenderOptions options;
     options.width = 300;  // tiles of 128, 128 and 44 columns
     options.height = 40;
-    for (const char* technique : {"hard", "ssm-contour"}) {
+    for (const char* technique : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour"}) {
         SCOPED_TRACE(technique);
         options.technique = technique;
         Renderer whole(scene, options), refined(scene, options);
