@@ -39,6 +39,10 @@ Options::Options(const std::string& command, const std::vector<std::string>& arg
         if (a.rfind("--", 0) == 0) {
             if (known(valued, a)) {
                 if (i + 1 >= args.size()) throw InputError(command + ": " + a + " expects a value");
+                // The next word is one of the command's options: the value is missing (`--set --out
+                // o.png` took "--out" as the value and then called o.png an unexpected argument).
+                if (known(valued, args[i + 1]) || known(bare, args[i + 1]))
+                    throw InputError(command + ": " + a + " expects a value, got the option " + args[i + 1]);
                 values_.push_back({a, args[++i]});
             } else if (known(bare, a)) {
                 values_.push_back({a, ""});
@@ -345,10 +349,18 @@ int runRender(const RenderJob& job, const Options& opts) {
 }
 
 std::optional<glm::ivec2> parsePixel(const std::string& text) {
+    // Whole numbers of at most 4 digits each (an image side is at most 8192): "%d" of sscanf wrapped
+    // 99999999999 into 1215752191 and the message then named a pixel nobody gave.
+    auto whole = [](const std::string& part, int& out) {
+        if (part.empty() || part.size() > 4 || !std::all_of(part.begin(), part.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            return false;
+        out = std::stoi(part);
+        return true;
+    };
+    const size_t comma = text.find(',');
     int x = 0, y = 0;
-    char comma = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &x, &comma, &y, &extra) != 3 || comma != ',')
-        throw InputError("--pixel: expected x,y (whole numbers, y counted from the top), got '" + text + "'");
+    if (comma == std::string::npos || !whole(text.substr(0, comma), x) || !whole(text.substr(comma + 1), y))
+        throw InputError("--pixel: expected x,y (whole numbers from 0 to 8191, y counted from the top), got '" + text + "'");
     return glm::ivec2(x, y);
 }
 

@@ -1,4 +1,5 @@
 #include "lesson/lesson.h"
+#include "scene/input_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -803,11 +804,14 @@ Lesson loadLesson(const std::string& nameOrPath) {
         shown = "lessons/" + nameOrPath + ".md";
         id = nameOrPath;
     }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(shown + ": cannot read the lesson file");
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    return parseLesson(buffer.str(), shown, id);
+    std::string text;
+    try {
+        text = readInputFile(path, "lesson file", kMaxTextInputBytes);
+    } catch (const InputError& e) {  // named as the user gave it
+        std::string message = e.what();
+        throw InputError(shown + message.substr(std::min(message.size(), path.size())));
+    }
+    return parseLesson(text, shown, id);
 }
 
 std::vector<std::string> listLessons() {

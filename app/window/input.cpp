@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "error.h"
+#include "scene/input_file.h"
 #include "window/camera_control.h"
 #include "lesson/player.h"
 #include "window/window.h"
@@ -283,9 +285,15 @@ int buttonCode(const std::string& name) {
 
 }  // namespace
 
+namespace {
+constexpr double kMaxScriptFrames = 10000000;  // ~3.9 days at 30 fps: a script's longest wait or drag
+constexpr double kMaxScriptPixels = 100000;    // a drag's window coordinates and offsets
+}  // namespace
+
 std::deque<ScriptCommand> parseScript(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError("window: --script: cannot read '" + path + "'");
+    // Through the input gate (a folder read as an empty script, exit 0 having done nothing; a FIFO
+    // or /dev/zero blocked or grew without bound).
+    std::istringstream in(readInputFile(path, "window script", kMaxTextInputBytes));
     std::deque<ScriptCommand> script;
     std::string text;
     static const std::map<std::string, std::pair<size_t, size_t>> arity = {
@@ -312,14 +320,25 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
             throw InputError(where + "'" + c.verb + "' takes " + std::to_string(it->second.first) +
                              (it->second.first == it->second.second ? "" : "-" + std::to_string(it->second.second)) +
                              " argument(s), got " + std::to_string(c.args.size()));
-        auto number = [&](const std::string& s) {
+        // A number with its range checked in the type the window stores it in (whole numbers for
+        // frames, pixels and counts: the runner reads them with stoi): never NaN, never a value
+        // the runner cannot hold ("wait 99999999999" was an uncaught out_of_range, "ui-scale nan"
+        // an ImGui assertion).
+        auto number = [&](const std::string& s, double lo = -1e6, double hi = 1e6, bool whole = false,
+                          const char* what = "a number") {
+            double v = std::nan("");
             try {
                 size_t used = 0;
-                double v = std::stod(s, &used);
-                if (used == s.size()) return v;
+                v = std::stod(s, &used);
+                if (used != s.size()) v = std::nan("");
             } catch (const std::exception&) {
             }
-            throw InputError(where + "expected a number, got '" + s + "'");
+            if (!std::isfinite(v) || v < lo || v > hi || (whole && v != std::floor(v))) {
+                char range[96];
+                std::snprintf(range, sizeof range, "%s%s in [%g, %g]", whole ? "a whole number of " : "", what, lo, hi);
+                throw InputError(where + c.verb + ": expected " + range + ", got '" + s + "'");
+            }
+            return v;
         };
         auto onOff = [&](const std::string& s) {
             if (s != "on" && s != "off") throw InputError(where + "expected on or off, got '" + s + "'");
@@ -346,28 +365,34 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         } else if (c.verb == "drag") {
             if (buttonCode(c.args[0]) < 0) throw InputError(where + "expected left, right or middle, got '" + c.args[0] + "'");
             if (modsCode(c.args[1]) < 0) throw InputError(where + "expected none, shift or ctrl, got '" + c.args[1] + "'");
-            for (size_t i = 2; i < 7; ++i) number(c.args[i]);
-            if (number(c.args[6]) < 1) throw InputError(where + "a drag takes at least 1 frame");
+            for (size_t i = 2; i < 6; ++i) number(c.args[i], -kMaxScriptPixels, kMaxScriptPixels, false, "window units");
+            number(c.args[6], 1, kMaxScriptFrames, true, "frames");
         } else if (c.verb == "drag-light") {
-            for (size_t i = 0; i < 3; ++i) number(c.args[i]);
-            if (number(c.args[2]) < 1) throw InputError(where + "a drag takes at least 1 frame");
+            for (size_t i = 0; i < 2; ++i) number(c.args[i], -kMaxScriptPixels, kMaxScriptPixels, false, "window units");
+            number(c.args[2], 1, kMaxScriptFrames, true, "frames");
         } else if (c.verb == "reference") {
             if (c.args[0] != "reference" && c.args[0] != "raytraced")
                 throw InputError(where + "reference: expected reference or raytraced, got '" + c.args[0] + "'");
         } else if (c.verb == "reference-rays") {
-            if (number(c.args[0]) < 1 || number(c.args[0]) > 65536 || number(c.args[0]) != std::floor(number(c.args[0])))
-                throw InputError(where + "reference-rays: expected a whole number in 1..65536, got '" + c.args[0] + "'");
+            number(c.args[0], 1, 65536, true, "rays");
         } else if (c.verb == "reference-samples") {
-            if (number(c.args[0]) < 1 || number(c.args[0]) > 65536) throw InputError(where + "expected 1..65536 samples");
-        } else if (c.verb == "scroll" || c.verb == "split-at" || c.verb == "ui-scale" || c.verb == "wait" ||
-                   c.verb == "wait-reference") {
-            for (const std::string& a : c.args) number(a);
-        } else if (c.verb == "pick" || c.verb == "resize") {
-            number(c.args[0]);
-            number(c.args[1]);
-            if (c.verb == "resize" && (number(c.args[0]) < 64 || number(c.args[1]) < 64 || number(c.args[0]) > 8192 ||
-                                       number(c.args[1]) > 8192))
-                throw InputError(where + "resize: expected sides in 64..8192");
+            number(c.args[0], 1, 65536, true, "samples");
+        } else if (c.verb == "scroll") {
+            number(c.args[0], -1000, 1000, false, "wheel steps");
+        } else if (c.verb == "split-at") {
+            number(c.args[0], 0, 1, false, "a fraction of the view's width");
+        } else if (c.verb == "ui-scale") {
+            number(c.args[0], 0.5, 4, false, "a UI scale");
+        } else if (c.verb == "wait") {
+            number(c.args[0], 0, kMaxScriptFrames, true, "frames");
+        } else if (c.verb == "wait-reference") {
+            if (!c.args.empty()) number(c.args[0], 1, kMaxScriptFrames, true, "frames");
+        } else if (c.verb == "pick") {
+            number(c.args[0], 0, 8191, true, "a pixel column");
+            number(c.args[1], 0, 8191, true, "a pixel row");
+        } else if (c.verb == "resize") {
+            number(c.args[0], 64, 8192, true, "a window width");
+            number(c.args[1], 64, 8192, true, "a window height");
         } else if (c.verb == "split") {
             if (c.args[0] != "off" && c.args[0] != "reference" && !findTechnique(c.args[0]))
                 throw InputError(where + "split: expected off, reference or a technique, got '" + c.args[0] + "'");
@@ -412,7 +437,7 @@ void Window::runScriptStep() {
         --scriptWaitReference_;
         const bool refDone = !referenceNeeded() || ref().complete();
         const bool shownDone = !shownSource() || shownSource()->complete();
-        if (!refDone || !shownDone || referenceVersion_ != version_ || interacting()) return;
+        if (!refDone || !shownDone || referenceVersion_ != version_ || interacting() || reduced_ || !imageComplete_) return;
         scriptWaitReference_ = 0;
     }
     // A `lesson check` waiting for the reference it reads (Window::finishPendingCheck): the next

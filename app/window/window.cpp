@@ -449,6 +449,7 @@ void Window::setReferenceParam(const std::string& key, const std::string& value)
 }
 
 void Window::setUiScale(float scale) {
+    if (!std::isfinite(scale)) return;  // the script and the panel pass checked values; never NaN into ImGui
     state_.uiScale = std::clamp(scale, 0.5f, 4.0f);
     if (!state_.presentation) normalUiScale_ = state_.uiScale;
 }
@@ -711,7 +712,10 @@ void Window::renderViews() {
         else compareComplete = other.refineFrame(frameIndex_, {"image"}, std::max(1.0, budget - spent)) >= 1.0;
         spent += msSince(c0);
     }
-    imageComplete_ = refineProgress_ >= 1.0 && compareComplete;
+    // A reduced frame (a drag's, or a change's preview) is never the complete frame, whatever the
+    // last refinement reached: the reference, the metrics and a script's wait-reference wait for
+    // the change's own full frame.
+    imageComplete_ = !reduce && refineProgress_ >= 1.0 && compareComplete;
 
     if (!referenceNeeded() && !showsReference()) {
         if (reference_.active()) reference_.cancel();

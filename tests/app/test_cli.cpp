@@ -1,6 +1,8 @@
 // The command line end to end (DESIGN.md section 6): outputs, stats, determinism, and bad input —
 // exit code 2, a message naming the file/field/flag and what was expected, and no output file.
 #include <gtest/gtest.h>
+
+#include <chrono>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -252,6 +254,50 @@ TEST(CliBadInput, UnknownCommandAndOptions) {
     expectBadInput("render --scene square-occluder --out /nonexistent-dir/x.png", {"--out", "/nonexistent-dir"});
     expectBadInput("render --scene square-occluder --frames 0", {"--frames"});
     expectBadInput("render --scene square-occluder --pixel 99999,0", {"--pixel"});
+}
+
+// Issue 24: a valued flag followed by another option has no value (it used to swallow the option
+// and call the option's own value an unexpected argument), and --pixel's numbers are read without
+// wrapping (99999999999 was reported as 1215752191).
+TEST(CliBadInput, AValuedFlagWithoutItsValueAndAPixelPastAnInt) {
+    expectBadInput("render --scene square-occluder --set --out " + tmp("swallow.png"),
+                   {"render: --set expects a value, got the option --out"}, tmp("swallow.png"));
+    expectBadInput("render --scene square-occluder --size --stats " + tmp("s.json"), {"--size expects a value, got the option --stats"},
+                   tmp("s.json"));
+    expectBadInput("render --scene square-occluder --pixel 99999999999,1", {"got '99999999999,1'"});
+    expectBadInput("render --scene square-occluder --pixel 3,-1", {"got '3,-1'"});
+    expectBadInput("render --scene square-occluder --pixel 3,4,5", {"got '3,4,5'"});
+}
+
+// Issue 24: every reader's file comes through one gate (scene/input_file.h). A folder, a FIFO and
+// /dev/zero in each input position are refused at once with exit 2 naming the path; before, a FIFO
+// blocked forever, /dev/zero grew without bound, and a folder was "the file is empty" or
+// "basic_filebuf::underflow" (exit 1).
+TEST(CliBadInput, EveryReaderRefusesAFolderAFifoAndADevice) {
+    const std::string good = tmp("good.pfm"), folder = tmp("a-folder"), fifo = tmp("a-fifo");
+    ASSERT_EQ(run("render --scene square-occluder --size 8x8 --visibility " + good).code, 0);
+    fs::create_directories(folder);
+    fs::remove(fifo);
+    ASSERT_EQ(std::system(("mkfifo " + fifo).c_str()), 0);
+    const std::vector<std::pair<std::string, std::string>> commands = {
+        {"compare BAD " + good, "PFM file"},
+        {"compare " + good + " BAD", "PFM file"},
+        {"bench --spec BAD", "bench spec"},
+        {"figure --spec BAD --out " + tmp("fig.png"), "figure spec"},
+        {"figure --remake BAD", "figure sidecar"},
+        {"lesson BAD --headless --out " + tmp("handout"), "lesson file"},
+    };
+    for (const std::string& bad : {folder, fifo, std::string("/dev/zero")})
+        for (const auto& [pattern, what] : commands) {
+            std::string command = pattern;
+            command.replace(command.find("BAD"), 3, bad);
+            SCOPED_TRACE(command);
+            const auto t0 = std::chrono::steady_clock::now();
+            expectBadInput(command, {bad + ": cannot read the " + what + ": it is "});
+            EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+        }
+    EXPECT_FALSE(fs::exists(tmp("handout")));
+    fs::remove(fifo);
 }
 
 TEST(CliBadInput, CompareFiles) {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "graph/technique.h"
 #include "image/image.h"
@@ -275,6 +276,48 @@ TEST(Window, BadScriptsAndFlags) {
     EXPECT_EQ(r.code, 2);
     r = runWindow("--scene nosuch");
     EXPECT_EQ(r.code, 2);
+}
+
+// Issue 24: a script's numbers are checked in the type the window runs them in, and a script is
+// a regular file. Each of these was accepted before: "ui-scale nan" then aborted in ImGui,
+// "wait 99999999999" exited 1 ("stoi") after the window opened, "pick 1.5 2" picked 1,2, a folder
+// was an empty script (exit 0, nothing done) and a FIFO blocked forever.
+TEST(Window, ScriptNumbersAreCheckedInTheirTypeAndAScriptIsARegularFile) {
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"ui-scale nan", "ui-scale: expected a UI scale in [0.5, 4], got 'nan'"},
+        {"ui-scale 0", "ui-scale: expected a UI scale in [0.5, 4], got '0'"},
+        {"wait 99999999999", "wait: expected a whole number of frames in [0, 1e+07], got '99999999999'"},
+        {"wait 2.5", "wait: expected a whole number of frames"},
+        {"wait-reference -1", "wait-reference: expected a whole number of frames"},
+        {"pick 1.5 2", "pick: expected a whole number of a pixel column in [0, 8191], got '1.5'"},
+        {"pick 3 inf", "pick: expected a whole number of a pixel row"},
+        {"split-at 1.5", "split-at: expected a fraction of the view's width in [0, 1], got '1.5'"},
+        {"scroll 1e308", "scroll: expected wheel steps in [-1000, 1000]"},
+        {"drag-light 1e30 0 10", "drag-light: expected window units in [-100000, 100000], got '1e30'"},
+        {"drag-light 10 0 0", "drag-light: expected a whole number of frames in [1, 1e+07], got '0'"},
+        {"drag left none 0 0 nan 1 5", "drag: expected window units"},
+        {"resize 640.5 480", "resize: expected a whole number of a window width in [64, 8192]"},
+        {"reference-samples 1.5", "reference-samples: expected a whole number of samples in [1, 65536]"},
+    };
+    for (const auto& [line, message] : bad) {
+        SCOPED_TRACE(line);
+        std::ofstream(tmp("num.txt")) << "panel off\n" << line << "\n";
+        auto r = runWindow("--script " + tmp("num.txt"));
+        EXPECT_EQ(r.code, 2) << r.output;
+        EXPECT_NE(r.output.find("num.txt:2: " + message), std::string::npos) << r.output;
+    }
+    // A folder, a FIFO and a device are no script: exit 2 at once, naming the path.
+    fs::create_directories(tmp("a-folder"));
+    const std::string fifo = tmp("a-fifo");
+    fs::remove(fifo);
+    ASSERT_EQ(std::system(("mkfifo " + fifo).c_str()), 0);
+    for (const std::string& path : {tmp("a-folder"), fifo, std::string("/dev/zero")}) {
+        SCOPED_TRACE(path);
+        auto r = runWindow("--script " + path);
+        EXPECT_EQ(r.code, 2) << r.output;
+        EXPECT_NE(r.output.find(path + ": cannot read the window script: it is "), std::string::npos) << r.output;
+    }
+    fs::remove(fifo);
 }
 
 // `shadowlab` with no arguments and no display renders the default scene headless into

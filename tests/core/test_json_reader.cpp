@@ -166,7 +166,7 @@ TEST(JsonReader, ParseErrors) {
     EXPECT_EQ(syntax.rfind("s.json:3:7: malformed JSON: ", 0), 0u) << syntax;
     const std::string missing = (std::filesystem::path(SHADOWLAB_TEST_TMP) / "absent.json").string();
     EXPECT_EQ(errorOf([&] { JsonDocument::fromFile(missing, "figure spec"); }),
-              missing + ": cannot read the figure spec");
+              missing + ": cannot read the figure spec: no such file");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 // stored bottom-to-top, so the first row on disk is the BOTTOM row of the picture, whereas an
 // Image keeps row 0 at the top.
 #include "image/image.h"
+#include "scene/input_file.h"
 
 #include <atomic>
 #include <csignal>
@@ -99,14 +100,7 @@ void writeAll(const std::string& path, const std::string& bytes) {
 }  // namespace
 
 Image readPFM(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw InputError(path + ": cannot open PFM file: " + describeErrno());
-    }
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) {
-        throw InputError(path + ": read error");
-    }
+    const std::string bytes = readInputFile(path, "PFM file", kMaxImageInputBytes);
 
     size_t pos = 0;
     std::string magic = headerToken(bytes, pos);

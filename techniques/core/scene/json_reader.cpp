@@ -1,5 +1,6 @@
 // Validated JSON input (json_reader.h): parsing with places for every error, and typed reads.
 #include "scene/json_reader.h"
+#include "scene/input_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -283,11 +284,7 @@ JsonDocument JsonDocument::fromString(const std::string& file, const std::string
 }
 
 JsonDocument JsonDocument::fromFile(const std::string& path, const std::string& what) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (!in) throw InputError(path + ": cannot read the " + what);
-    return fromString(path, text.str());
+    return fromString(path, readInputFile(path, what, kMaxTextInputBytes));
 }
 
 int JsonDocument::lineOf(const std::string& path) const {
