@@ -28,6 +28,7 @@
 #include "error.h"
 #include "graph/technique.h"
 #include "image/image.h"
+#include "style.h"
 #include "vtk_offscreen.h"
 
 namespace shadowlab {
@@ -54,7 +55,49 @@ public:
     vtkAxis* yAxis = nullptr;
     bool logX = false, logY = false, labels = true;
     double errorFloor = 0.0;
-    int fontSize = 11;
+    int fontSize = 14;
+    // The layout record (optional): every text painted with its box, and problems found while
+    // painting (tick labels of one axis overlapping); labels that found no free place are counted.
+    std::vector<TextBox>* record = nullptr;
+    std::string* problems = nullptr;
+    int* hiddenLabels = nullptr;
+    int sceneHeight = 0;  // the scene's height in pixels, to turn y up into y down
+
+    struct Box {
+        float x0, y0, x1, y1;
+        bool overlaps(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+    };
+    void note(const std::string& text, float x0, float y0, float x1, float y1, int font) {
+        if (!record) return;
+        TextBox b;
+        b.text = text;
+        b.x0 = int(std::floor(x0)), b.x1 = int(std::ceil(x1));
+        b.y0 = sceneHeight - int(std::ceil(y1)), b.y1 = sceneHeight - int(std::floor(y0));
+        b.fontPx = font;
+        b.vx0 = 0, b.vy0 = 0, b.vx1 = 1 << 20, b.vy1 = 1 << 20;  // the chart has one panel: the picture
+        record->push_back(b);
+    }
+    // Tick labels of an axis: measured at their tick positions; neighbours must not overlap.
+    void checkTicks(vtkContext2D* painter, vtkAxis* a, bool horizontal) {
+        vtkFloatArray* ticks = a->GetTickScenePositions();
+        vtkStringArray* labels = a->GetTickLabels();
+        if (!ticks || !labels || !problems) return;
+        painter->ApplyTextProp(a->GetLabelProperties());
+        float lastEnd = -1e30f;
+        const float lo = horizontal ? a->GetPoint1()[0] : a->GetPoint1()[1];
+        const float hi = horizontal ? a->GetPoint2()[0] : a->GetPoint2()[1];
+        for (vtkIdType i = 0; i < ticks->GetNumberOfTuples() && i < labels->GetNumberOfValues(); ++i) {
+            const float t = ticks->GetValue(i);
+            if (t < lo - 0.5f || t > hi + 0.5f || labels->GetValue(i).empty()) continue;  // minor ticks: no label
+            float b[4];
+            painter->ComputeStringBounds(labels->GetValue(i), b);
+            const float half = 0.5f * (horizontal ? b[2] : b[3]);
+            if (t - half < lastEnd)
+                *problems += "chart: tick labels of the " + std::string(horizontal ? "x" : "y") + " axis overlap at '" +
+                             labels->GetValue(i) + "'\n";
+            lastEnd = t + half;
+        }
+    }
 
     bool Paint(vtkContext2D* painter) override {
         // Axis value -> scene position (log10 on log axes), clipped to the plot area.
@@ -120,10 +163,6 @@ public:
         const float radius = 5.0f;
         // Points first, then labels placed where they overlap no point and no earlier label: right
         // and above the point, else right-below, left-above, left-below (the first that fits).
-        struct Box {
-            float x0, y0, x1, y1;
-            bool overlaps(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
-        };
         std::vector<Box> taken;
         for (const Series& s : series) {
             painter->GetPen()->SetColor(255, 255, 255, 255);
@@ -151,16 +190,26 @@ public:
                                               {x + gap, y - 1.0f - h, x + gap + w, y - 1.0f},
                                               {x - gap - w, y + 1.0f, x - gap, y + 1.0f + h},
                                               {x - gap - w, y - 1.0f - h, x - gap, y - 1.0f}};
-                    Box chosen = candidates[0];
+                    // Inside the plot area and over nothing painted before; a label with no such place
+                    // is left out (counted: the legend and the point still say which it is).
+                    const float px0 = xAxis->GetPoint1()[0], px1 = xAxis->GetPoint2()[0];
+                    const float py0 = yAxis->GetPoint1()[1], py1 = yAxis->GetPoint2()[1];
+                    const Box* chosen = nullptr;
                     for (const Box& c : candidates) {
+                        bool inside = c.x0 >= px0 && c.x1 <= px1 && c.y0 >= py0 && c.y1 <= py1;
                         bool free = std::none_of(taken.begin(), taken.end(), [&](const Box& t) { return t.overlaps(c); });
-                        if (free) {
-                            chosen = c;
+                        if (inside && free) {
+                            chosen = &c;
                             break;
                         }
                     }
-                    taken.push_back(chosen);
-                    painter->DrawString(chosen.x0, chosen.y0, label);
+                    if (!chosen) {
+                        if (hiddenLabels) ++*hiddenLabels;
+                        continue;
+                    }
+                    taken.push_back(*chosen);
+                    painter->DrawString(chosen->x0, chosen->y0, label);
+                    note(label, chosen->x0, chosen->y0, chosen->x1, chosen->y1, fontSize);
                 }
         for (const Series& s : series)
             for (const AccuracyTimePoint& p : s.points) {
@@ -171,12 +220,49 @@ public:
                 painter->GetBrush()->SetColor(0, 0, 0, 0);
                 painter->DrawEllipse(x, y, 2.2f * radius, 2.2f * radius);
             }
-        paintLegend(painter, radius);
+        paintLegend(painter, radius, taken);
+        if (record) {
+            // The axes' texts: tick labels measured at their tick positions, in the label band of the
+            // axis' bounding rectangle; titles at its outer edge (the y title rotated).
+            for (vtkAxis* a : {xAxis, yAxis}) {
+                const bool horizontal = a == xAxis;
+                const vtkRectf r = a->GetBoundingRect(painter);
+                vtkFloatArray* ticks = a->GetTickScenePositions();
+                vtkStringArray* tickLabels = a->GetTickLabels();
+                painter->ApplyTextProp(a->GetLabelProperties());
+                const float lo = horizontal ? a->GetPoint1()[0] : a->GetPoint1()[1];
+                const float hi = horizontal ? a->GetPoint2()[0] : a->GetPoint2()[1];
+                for (vtkIdType i = 0; ticks && tickLabels && i < ticks->GetNumberOfTuples() && i < tickLabels->GetNumberOfValues(); ++i) {
+                    const float t = ticks->GetValue(i);
+                    if (t < lo - 0.5f || t > hi + 0.5f || tickLabels->GetValue(i).empty()) continue;
+                    float b[4];
+                    painter->ComputeStringBounds(tickLabels->GetValue(i), b);
+                    if (horizontal)
+                        note(tickLabels->GetValue(i), t - 0.5f * b[2], r.GetY() + r.GetHeight() - b[3] - 1.0f,
+                             t + 0.5f * b[2], r.GetY() + r.GetHeight() - 1.0f, a->GetLabelProperties()->GetFontSize());
+                    else
+                        note(tickLabels->GetValue(i), r.GetX() + r.GetWidth() - b[2] - 1.0f, t - 0.5f * b[3],
+                             r.GetX() + r.GetWidth() - 1.0f, t + 0.5f * b[3], a->GetLabelProperties()->GetFontSize());
+                }
+                painter->ApplyTextProp(a->GetTitleProperties());
+                float b[4];
+                painter->ComputeStringBounds(a->GetTitle(), b);
+                const float mid = 0.5f * (lo + hi);
+                if (horizontal)
+                    note(a->GetTitle(), mid - 0.5f * b[2], r.GetY(), mid + 0.5f * b[2], r.GetY() + b[3],
+                         a->GetTitleProperties()->GetFontSize());
+                else
+                    note(a->GetTitle(), r.GetX(), mid - 0.5f * b[3], r.GetX() + b[2], mid + 0.5f * b[3],
+                         a->GetTitleProperties()->GetFontSize());  // the bounds of the rotated text
+            }
+            checkTicks(painter, xAxis, true);
+            checkTicks(painter, yAxis, false);
+        }
         return true;
     }
 
     // A legend box in the plot area's top-right corner: the front, each series, the highlight.
-    void paintLegend(vtkContext2D* painter, float radius) {
+    void paintLegend(vtkContext2D* painter, float radius, const std::vector<Box>& taken) {
         struct Entry {
             std::string name;
             int kind;  // 0 front (dashed line), 1 series (disc), 2 highlight (ring)
@@ -201,7 +287,7 @@ public:
             painter->ComputeStringBounds(e.name, bounds);
             widest = std::max(widest, bounds[2]);
         }
-        const float line = float(legendFontSize) * 1.5f, pad = 6.0f, swatch = 26.0f;
+        const float line = float(legendFontSize) * 1.5f, pad = 0.4f * float(legendFontSize), swatch = 1.8f * float(legendFontSize);
         const float w = pad * 3 + swatch + widest, h = pad * 2 + line * float(entries.size());
         const float right = xAxis->GetPoint2()[0] - 4.0f, top = yAxis->GetPoint2()[1] - 4.0f;
         const float left = right - w, bottom = top - h;
@@ -231,7 +317,18 @@ public:
                 painter->DrawEllipse(x + swatch / 2, y, 2.2f * radius, 2.2f * radius);
             }
             painter->DrawString(x + swatch + pad, y, e.name);
+            painter->ComputeStringBounds(e.name, bounds);
+            note(e.name, x + swatch + pad, y - 0.5f * bounds[3], x + swatch + pad + bounds[2], y + 0.5f * bounds[3],
+                 legendFontSize);
         }
+        // The legend's box over a point label is a problem the record reports.
+        const Box legend{left, bottom, left + w, top};
+        if (problems)
+            for (const Box& t : taken)
+                if (t.overlaps(legend)) {
+                    *problems += "chart: the legend covers a point or its label\n";
+                    break;
+                }
     }
 };
 vtkStandardNewMacro(AccuracyTimeMarks);
@@ -296,7 +393,8 @@ std::vector<size_t> paretoFront(const std::vector<AccuracyTimePoint>& points) {
 vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& panel, const AccuracyTimeStyle& style) {
     auto chart = vtkSmartPointer<vtkChartXY>::New();
     chart->SetTitle(panel.title.c_str());
-    chart->GetTitleProperties()->SetFontSize(style.fontSize + 3);
+    const int font = style.fontSize > 0 ? std::max(kMinTextPx, style.fontSize) : textPx(style.panelHeight);
+    chart->GetTitleProperties()->SetFontSize(font + 3);
     chart->GetTitleProperties()->SetBold(true);
     chart->SetShowLegend(false);  // AccuracyTimeMarks draws the legend
 
@@ -346,12 +444,14 @@ vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& pane
 
     vtkAxis* xAxis = chart->GetAxis(vtkAxis::BOTTOM);
     vtkAxis* yAxis = chart->GetAxis(vtkAxis::LEFT);
-    xAxis->SetTitle(std::string("shadow time per frame, ms (median, technique passes only") + (logX ? "; log scale)" : ")"));
-    yAxis->SetTitle(style.errorName + " of visibility against the reference" + (logY ? " (log scale)" : ""));
+    // Short titles: they must fit the axis at the text standard's size (the README and --help say
+    // that the time is the technique's passes only, the median over the frames).
+    xAxis->SetTitle(std::string("shadow_ms per frame (median)") + (logX ? ", log scale" : ""));
+    yAxis->SetTitle(style.errorName + " against the reference" + (logY ? ", log scale" : ""));
     for (vtkAxis* a : {xAxis, yAxis}) {
-        a->GetTitleProperties()->SetFontSize(style.fontSize + 1);
+        a->GetTitleProperties()->SetFontSize(font + 1);
         a->GetTitleProperties()->SetBold(false);
-        a->GetLabelProperties()->SetFontSize(style.fontSize);
+        a->GetLabelProperties()->SetFontSize(font);
         a->SetNotation(vtkAxis::PRINTF_NOTATION);
         a->SetLabelFormat("%g");
         a->SetBehavior(vtkAxis::FIXED);
@@ -370,8 +470,12 @@ vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& pane
     marks->logY = logY;
     marks->errorFloor = eFloor;
     marks->labels = style.labels;
-    marks->fontSize = std::max(8, style.fontSize - 1);
-    marks->legendFontSize = style.fontSize;
+    marks->fontSize = font;
+    marks->legendFontSize = font;
+    marks->record = style.record;
+    marks->problems = style.problems;
+    marks->hiddenLabels = style.hiddenLabels;
+    marks->sceneHeight = style.sceneHeight;
     chart->AddItem(marks);  // painted after the axes and the (empty) plots
     return chart;
 }
@@ -391,13 +495,19 @@ void writeAccuracyTimeChart(const std::vector<AccuracyTimePanel>& panels, const 
     const float cw = float(width) / float(columns), ch = float(height) / float(rows);
     std::vector<vtkSmartPointer<vtkChartXY>> charts;
     for (int i = 0; i < n; ++i) {
-        vtkSmartPointer<vtkChartXY> chart = buildAccuracyTimeChart(panels[size_t(i)], style);
+        AccuracyTimeStyle panelStyle = style;
+        panelStyle.panelHeight = int(ch);
+        panelStyle.sceneHeight = height;
+        vtkSmartPointer<vtkChartXY> chart = buildAccuracyTimeChart(panels[size_t(i)], panelStyle);
         chart->SetAutoSize(false);
         const int col = i % columns, row = i / columns;
         // VTK's scene has y up: the first panel at the top left. The axes' corners are placed with
         // fixed margins (AXES_TO_RECT) rather than from the labels' measured bounds: the PDF device
         // measures the rotated y title as if it were horizontal, which would squeeze the plot.
-        const float left = 78.0f, bottom = 52.0f, right = 24.0f, top = 34.0f;
+        // Margins in units of the text size: the y axis' labels and rotated title at the left, the x
+        // axis' labels and title under the plot, the chart's title above it.
+        const float f = float(style.fontSize > 0 ? std::max(kMinTextPx, style.fontSize) : textPx(int(ch)));
+        const float left = 6.0f * f, bottom = 4.0f * f, right = 1.5f * f, top = 2.6f * f;
         chart->SetLayoutStrategy(vtkChart::AXES_TO_RECT);
         chart->SetSize(vtkRectf(float(col) * cw + left, float(rows - 1 - row) * ch + bottom, cw - left - right,
                                 ch - bottom - top));

@@ -16,6 +16,8 @@
 #include <vtkChartXY.h>
 #include <vtkSmartPointer.h>
 
+#include "text_box.h"
+
 namespace shadowlab {
 
 struct AccuracyTimePoint {
@@ -33,8 +35,17 @@ struct AccuracyTimePanel {
 
 struct AccuracyTimeStyle {
     std::string errorName = "RMSE";  // "RMSE" or "1 - SSIM": the y axis title
-    int fontSize = 13;               // tick labels; titles and point labels are scaled from it
-    bool labels = true;              // draw each point's label
+    // Text in px (tick labels, point labels, legend; titles a little larger), never under 14; 0: the
+    // text standard's size for a panel `panelHeight` high (viz/style.h textPx).
+    int fontSize = 0;
+    int panelHeight = 480;
+    bool labels = true;              // draw each point's label (one that finds no free place is left out)
+    // The layout record (optional, for tests): every text with its box, in a picture `sceneHeight`
+    // high; problems found while painting; point labels left out.
+    std::vector<TextBox>* record = nullptr;
+    std::string* problems = nullptr;
+    int* hiddenLabels = nullptr;
+    int sceneHeight = 0;
 };
 
 // The colour of a technique's series (8-bit RGB), fixed by its place in the registry; the two

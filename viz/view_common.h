@@ -15,6 +15,7 @@
 
 #include "graph/internals.h"
 #include "graph/renderer.h"
+#include "style.h"
 #include "views.h"
 #include "vtk_offscreen.h"
 
@@ -120,14 +121,14 @@ vtkSmartPointer<vtkImageData> toImageData(const Image& image, const std::vector<
 
 // Colour maps: a sequential map (dark blue -> yellow, perceptually ordered like viridis) and a
 // diverging one (blue -> white -> red, symmetric about 0). NaN shows as `nanRgb`.
-vtkSmartPointer<vtkLookupTable> sequentialLut(double lo, double hi, glm::vec3 nanRgb = glm::vec3(0.35f));
+vtkSmartPointer<vtkLookupTable> sequentialLut(double lo, double hi, glm::vec3 nanRgb = kBackgroundGrey);
 vtkSmartPointer<vtkLookupTable> divergingLut(double maxAbs);
-// A vertical colour bar at the right of `renderer`'s viewport.
-vtkSmartPointer<vtkScalarBarActor> colourBar(vtkLookupTable* lut, const std::string& title);
-// Caption text at the bottom-left of a viewport (font scaled to the frame height).
+// Colour bars: addColourBar / colourBarWidthPx (style.h), whose texts are measured.
+// Caption text at the bottom-left of a viewport (the text standard's size, style.h textPx).
 vtkSmartPointer<vtkTextActor> captionActor(const std::string& text, int frameHeight);
-// A strip along the bottom of the frame holding the caption (one line per '\n'); returns its height
-// as a fraction of the frame, for the panels to start above it.
+// A strip along the bottom of the frame holding the caption (one line per '\n', long lines wrapped
+// to the frame's width, never shrunk); returns its height as a fraction of the frame, for the panels
+// to start above it.
 double addCaptionStrip(VtkOffscreen& out, const std::string& caption, bool monospace = false);
 // Parallel camera of an image panel showing all of a width x height image in a viewport of
 // `viewportAspect` (width / height), with a small margin.

@@ -95,7 +95,7 @@ void build(ViewContext& ctx, ViewResult& result) {
     const double scale = maxAbs > 0.0f ? maxAbs : 1.0;
     addImagePanelWithBar(ctx.out, image, "signed_error", divergingLut(scale), "signed error v - v_ref", "error", 0.0,
                          strip, 0.5, 1.0);
-    addImagePanelWithBar(ctx.out, image, "abs_error", sequentialLut(0.0, scale), "absolute error |v - v_ref|",
+    addImagePanelWithBar(ctx.out, image, "abs_error", paletteLut(Palette::AbsoluteError, 0.0, scale), "absolute error |v - v_ref|",
                          "|error|", 0.5, strip, 1.0, 1.0);
 
     if (!ctx.request.exportPath.empty()) writeImageData(image, ctx.exportTarget(ctx.request.exportPath));

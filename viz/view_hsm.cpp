@@ -199,8 +199,9 @@ void build(ViewContext& ctx, ViewResult& result) {
     result.data = data;
 
     const double strip = addCaptionStrip(ctx.out, caption);
+    const double split = 1.0 - std::min(0.4, double(colourBarWidthPx(lut, "depth", ctx.out.height())) / ctx.out.width());
     vtkRenderer* r = ctx.out.addRenderer();
-    r->SetViewport(0.0, strip, 0.86, 1.0);
+    r->SetViewport(0.0, strip, split, 1.0);
     r->SetBackground(0.12, 0.12, 0.14);
     for (size_t k = 0; k < levels.size(); ++k) {
         const double scale = std::ldexp(1.0, int(k) + 1), z = double(k) * gap;
@@ -223,12 +224,9 @@ void build(ViewContext& ctx, ViewResult& result) {
     r->AddActor2D(titleActor("HSM min | max: each step's texels (red, orange), kernel (cyan)",
                              ctx.out.height()));
     vtkRenderer* side = ctx.out.addRenderer();
-    side->SetViewport(0.86, strip, 1.0, 1.0);
+    side->SetViewport(split, strip, 1.0, 1.0);
     side->SetBackground(0.12, 0.12, 0.14);
-    auto bar = colourBar(lut, "depth");
-    bar->SetPosition(0.05, 0.08);
-    bar->SetPosition2(0.9, 0.84);
-    side->AddActor2D(bar);
+    addColourBar(side, lut, "depth", ctx.out.height());
     // Export: HSM level 1 (min, max) as image data.
     if (!ctx.request.exportPath.empty())
         writeImageData(toImageData(levels[0], {"min", "max"}), ctx.exportTarget(ctx.request.exportPath));

@@ -107,8 +107,9 @@ std::pair<float, float> addPyramidStack(VtkOffscreen& out, const std::vector<Ima
         hi = std::max(hi, b);
     }
     auto lut = sequentialLut(lo, hi);
+    const double split = 1.0 - std::min(0.4, double(colourBarWidthPx(lut, channel, out.height())) / out.width());
     vtkRenderer* r = out.addRenderer();
-    r->SetViewport(0.0, y0, 0.84, 1.0);
+    r->SetViewport(0.0, y0, split, 1.0);
     r->SetBackground(0.12, 0.12, 0.14);
     const double w0 = levels[0].width, h0 = levels[0].height;
     const double gap = 0.18 * std::max(w0, h0);
@@ -128,12 +129,9 @@ std::pair<float, float> addPyramidStack(VtkOffscreen& out, const std::vector<Ima
                                  ") at the bottom",
                              out.height()));
     vtkRenderer* side = out.addRenderer();
-    side->SetViewport(0.84, y0, 1.0, 1.0);
+    side->SetViewport(split, y0, 1.0, 1.0);
     side->SetBackground(0.12, 0.12, 0.14);
-    auto bar = colourBar(lut, channel);
-    bar->SetPosition(0.05, 0.08);
-    bar->SetPosition2(0.9, 0.84);
-    side->AddActor2D(bar);
+    addColourBar(side, lut, channel, out.height());
     return {lo, hi};
 }
 

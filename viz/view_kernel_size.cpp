@@ -81,7 +81,7 @@ void build(ViewContext& ctx, ViewResult& result) {
     for (size_t k = 0; k < names.size(); ++k) {
         auto [lo, hi] = finiteRange(kernels, int(k));
         double x0 = double(k) / double(names.size()), x1 = double(k + 1) / double(names.size());
-        addImagePanelWithBar(ctx.out, image, names[k], sequentialLut(std::min(lo, 1.0f), std::max(hi, 1.0f)),
+        addImagePanelWithBar(ctx.out, image, names[k], paletteLut(Palette::KernelSize, std::min(lo, 1.0f), std::max(hi, 1.0f)),
                              desc.name + "." + names[k], names[k], x0, strip, x1, 1.0);
     }
     if (!ctx.request.exportPath.empty()) writeImageData(image, ctx.exportTarget(ctx.request.exportPath));

@@ -30,16 +30,6 @@ std::string refusal(const Renderer& renderer, const ViewRequest& request) {
 }
 
 // Black (0) to white (1); "did not run" (NaN) in blue-grey.
-vtkSmartPointer<vtkLookupTable> greyLut() {
-    auto lut = vtkSmartPointer<vtkLookupTable>::New();
-    lut->SetNumberOfTableValues(256);
-    lut->SetRange(0.0, 1.0);
-    for (int i = 0; i < 256; ++i) lut->SetTableValue(i, i / 255.0, i / 255.0, i / 255.0, 1.0);
-    lut->SetNanColor(0.25, 0.3, 0.45, 1.0);
-    lut->Build();
-    return lut;
-}
-
 void build(ViewContext& ctx, ViewResult& result) {
     const LightState& l = ctx.light();
     std::vector<const InternalDesc*> maps = reuseInternals(l);
@@ -70,7 +60,7 @@ void build(ViewContext& ctx, ViewResult& result) {
     result.caption = "reuse  " + l.desc->id + ", L" + std::to_string(ctx.request.light) + ": " + summary;
     result.data = {{"maps", stats}};
     const double strip = addCaptionStrip(ctx.out, result.caption);
-    auto lut = greyLut();
+    auto lut = paletteLut(Palette::Depth, 0.0, 1.0);  // 0 computed, 1 reused; no data grey
     for (size_t k = 0; k < images.size(); ++k) {
         auto image = toImageData(images[k], {"reuse"});
         double x0 = double(k) / double(images.size()), x1 = double(k + 1) / double(images.size());

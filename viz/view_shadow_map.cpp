@@ -52,7 +52,7 @@ void build(ViewContext& ctx, ViewResult& result) {
     const Image& depth = map->levels[0];
     auto image = toImageData(depth, {"depth"});
     auto [lo, hi] = finiteRange(depth);
-    auto lut = sequentialLut(lo, hi, glm::vec3(0.3f));
+    auto lut = sequentialLut(lo, hi);
     nlohmann::json data{{"internal", name}, {"size", {depth.width, depth.height}}, {"depth_range", {lo, hi}}};
 
     // What the technique recorded for the picked pixel.
@@ -105,7 +105,9 @@ void build(ViewContext& ctx, ViewResult& result) {
 
     // Layout: the map (left); with a pixel, a close-up (right, top) above a horizontal colour bar;
     // else a vertical colour bar at the right.
-    const double mapRight = picked ? 0.62 : 0.84;
+    const std::string barTitle = "light-view depth z";
+    const double barShare = std::min(0.4, double(colourBarWidthPx(lut, barTitle, ctx.out.height())) / ctx.out.width());
+    const double mapRight = picked ? 0.62 : 1.0 - barShare;
     vtkRenderer* main = ctx.out.addRenderer();
     main->SetBackground(0.12, 0.12, 0.14);
     main->SetViewport(0.0, strip, mapRight, 1.0);
@@ -115,23 +117,21 @@ void build(ViewContext& ctx, ViewResult& result) {
                                 ctx.request.height));
     vtkRenderer* side = ctx.out.addRenderer();
     side->SetBackground(0.12, 0.12, 0.14);
-    auto bar = colourBar(lut, "light-view depth z");
-    side->AddActor2D(bar);
     if (!picked) {
         side->SetViewport(mapRight, strip, 1.0, 1.0);
-        bar->SetPosition(0.1, 0.08);
-        bar->SetPosition2(0.85, 0.84);
+        addColourBar(side, lut, barTitle, ctx.out.height());
     } else {
         main->AddActor(lineActor(cross, kTexelRgb, 2.0f));
         main->AddActor(lineActor(readLines, kReadRgb, 1.5f));
         main->AddActor(lineActor(texelLines, kTexelRgb, 2.0f));
-        side->SetViewport(mapRight, strip, 1.0, strip + (1.0 - strip) * 0.3);
-        bar->SetOrientationToHorizontal();
-        bar->SetPosition(0.12, 0.3);
-        bar->SetPosition2(0.8, 0.5);
+        // A horizontal bar under the close-up, as tall as its title, strip and labels need.
+        const int px = textPx(ctx.out.height());
+        const double barHeight = std::min(0.45 * (1.0 - strip), (4.6 * px + 12.0) / ctx.out.height());
+        side->SetViewport(mapRight, strip, 1.0, strip + barHeight);
+        addColourBar(side, lut, barTitle, ctx.out.height(), true);
         // The close-up: the texels read plus a margin of 4 texels.
         vtkRenderer* zoom = ctx.out.addRenderer();
-        zoom->SetViewport(mapRight, strip + (1.0 - strip) * 0.3, 1.0, 1.0);
+        zoom->SetViewport(mapRight, strip + barHeight, 1.0, 1.0);
         zoom->SetBackground(0.12, 0.12, 0.14);
         addImagePanel(zoom, image, "depth", lut);
         zoom->AddActor(lineActor(readLines, kReadRgb, 2.5f));

@@ -34,6 +34,7 @@
 #include "error.h"
 #include "gl/loader.h"
 #include "view_common.h"
+#include "style.h"
 
 namespace shadowlab {
 
@@ -187,79 +188,15 @@ std::string formatNumber(double v, int digits) {
     return buffer;
 }
 
-// Viridis at 8 stops (matplotlib's, sRGB): dark blue -> green -> yellow, ordered in lightness.
-static const float kViridis[8][3] = {{0.267f, 0.005f, 0.329f}, {0.275f, 0.194f, 0.496f}, {0.213f, 0.359f, 0.552f},
-                                     {0.153f, 0.498f, 0.558f}, {0.122f, 0.632f, 0.531f}, {0.290f, 0.762f, 0.428f},
-                                     {0.622f, 0.854f, 0.223f}, {0.993f, 0.906f, 0.144f}};
-
-// A range to show: a constant image gets a small range around its value (the bar still reads it).
-static void widenRange(double& lo, double& hi) {
-    if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0.0, hi = 1.0;
-    const double minWidth = 1e-2 * std::max(1.0, std::max(std::abs(lo), std::abs(hi)));
-    if (hi - lo < minWidth) {
-        const double mid = 0.5 * (lo + hi);
-        lo = mid - minWidth;
-        hi = mid + minWidth;
-    }
-}
-
 vtkSmartPointer<vtkLookupTable> sequentialLut(double lo, double hi, glm::vec3 nanRgb) {
-    widenRange(lo, hi);
-    auto lut = vtkSmartPointer<vtkLookupTable>::New();
-    lut->SetNumberOfTableValues(256);
-    lut->SetTableRange(lo, hi);
-    for (int i = 0; i < 256; ++i) {
-        float t = float(i) / 255.0f * 7.0f;
-        int k = std::min(int(t), 6);
-        float f = t - float(k);
-        double rgb[3];
-        for (int c = 0; c < 3; ++c) rgb[c] = kViridis[k][c] * (1.0f - f) + kViridis[k + 1][c] * f;
-        lut->SetTableValue(i, rgb[0], rgb[1], rgb[2], 1.0);
-    }
+    auto lut = paletteLut(Palette::Depth, lo, hi);
     lut->SetNanColor(nanRgb.r, nanRgb.g, nanRgb.b, 1.0);
-    lut->SetUseBelowRangeColor(false);
-    lut->SetUseAboveRangeColor(false);
     return lut;
 }
 
 vtkSmartPointer<vtkLookupTable> divergingLut(double maxAbs) {
     if (!(maxAbs > 0.0)) maxAbs = 1e-6;
-    auto lut = vtkSmartPointer<vtkLookupTable>::New();
-    lut->SetNumberOfTableValues(256);
-    lut->SetTableRange(-maxAbs, maxAbs);
-    // Blue (0.23, 0.30, 0.75) -> white -> red (0.71, 0.02, 0.15), Moreland's cool-warm end points.
-    const glm::vec3 blue(0.230f, 0.299f, 0.754f), white(0.97f), red(0.706f, 0.016f, 0.150f);
-    for (int i = 0; i < 256; ++i) {
-        float t = float(i) / 255.0f * 2.0f - 1.0f;
-        glm::vec3 c = t < 0.0f ? glm::mix(white, blue, -t) : glm::mix(white, red, t);
-        lut->SetTableValue(i, c.r, c.g, c.b, 1.0);
-    }
-    lut->SetNanColor(0.35, 0.35, 0.35, 1.0);
-    return lut;
-}
-
-vtkSmartPointer<vtkScalarBarActor> colourBar(vtkLookupTable* lut, const std::string& title) {
-    auto bar = vtkSmartPointer<vtkScalarBarActor>::New();
-    bar->SetLookupTable(lut);
-    bar->SetTitle(title.c_str());
-    bar->SetNumberOfLabels(5);
-    bar->SetLabelFormat("%-#6.3g");
-    bar->SetOrientationToVertical();
-    bar->SetPosition(0.86, 0.12);
-    bar->SetPosition2(0.13, 0.78);
-    bar->SetBarRatio(0.3);
-    bar->UnconstrainedFontSizeOn();
-    bar->GetTitleTextProperty()->SetFontSize(13);
-    bar->GetTitleTextProperty()->SetColor(0.95, 0.95, 0.95);
-    bar->GetTitleTextProperty()->ItalicOff();
-    bar->GetTitleTextProperty()->ShadowOff();
-    bar->GetLabelTextProperty()->SetFontSize(12);
-    bar->GetLabelTextProperty()->SetColor(0.95, 0.95, 0.95);
-    bar->GetLabelTextProperty()->ItalicOff();
-    bar->GetLabelTextProperty()->ShadowOff();
-    bar->SetDrawNanAnnotation(lut->GetNanColor()[0] >= 0.0);
-    bar->SetNanAnnotation("none");
-    return bar;
+    return paletteLut(Palette::SignedError, -maxAbs, maxAbs);
 }
 
 static vtkSmartPointer<vtkTextActor> textActor(const std::string& text, int size) {
@@ -268,31 +205,19 @@ static vtkSmartPointer<vtkTextActor> textActor(const std::string& text, int size
     actor->GetTextProperty()->SetFontSize(size);
     actor->GetTextProperty()->SetColor(0.95, 0.95, 0.95);
     actor->GetTextProperty()->SetFontFamilyToArial();
+    actor->GetTextProperty()->ShadowOff();
+    actor->GetTextProperty()->ItalicOff();
     return actor;
 }
 
-// Caption font: 1/36 of the frame height, smaller when the longest line would not fit the width
-// (Arial averages about 0.55 em per character).
-static int captionFont(const std::string& text, int frameWidth, int frameHeight) {
-    size_t longest = 0, start = 0;
-    while (start <= text.size()) {
-        size_t end = text.find('\n', start);
-        if (end == std::string::npos) end = text.size();
-        longest = std::max(longest, end - start);
-        start = end + 1;
-    }
-    int byWidth = longest ? int((frameWidth - 16) / (0.62 * double(longest))) : 100;  // Courier: 0.6 em
-    return std::max(8, std::min(frameHeight / 36, byWidth));
-}
-
 vtkSmartPointer<vtkTextActor> captionActor(const std::string& text, int frameHeight) {
-    auto actor = textActor(text, std::max(10, frameHeight / 36));
+    auto actor = textActor(text, textPx(frameHeight));
     actor->SetPosition(8, 6);
     return actor;
 }
 
 vtkSmartPointer<vtkTextActor> titleActor(const std::string& text, int frameHeight) {
-    auto actor = textActor(text, std::max(11, frameHeight / 30));
+    auto actor = textActor(text, textPx(frameHeight));
     actor->GetTextProperty()->SetVerticalJustificationToTop();
     actor->GetTextProperty()->BoldOn();
     actor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
@@ -301,15 +226,19 @@ vtkSmartPointer<vtkTextActor> titleActor(const std::string& text, int frameHeigh
 }
 
 double addCaptionStrip(VtkOffscreen& out, const std::string& caption, bool monospace) {
-    const int lines = 1 + int(std::count(caption.begin(), caption.end(), '\n'));
-    const int font = captionFont(caption, out.width(), out.height());
-    const double strip = std::min(0.5, (lines * font * 1.3 + 10.0) / out.height());
+    // The standard's text size, the caption wrapped to the width (never shrunk under the standard).
+    auto text = captionActor(caption, out.height());
+    if (monospace) text->GetTextProperty()->SetFontFamilyToCourier();  // columns of figures line up
+    const int margin = std::max(6, textPx(out.height()) / 3);
+    const std::string wrapped = wrapText(text->GetTextProperty(), caption, out.width() - 2 * margin);
+    text->SetInput(wrapped.c_str());
+    int w = 0, h = 0;
+    textExtent(text->GetTextProperty(), wrapped, w, h);
+    const double strip = std::min(0.9, double(h + 2 * margin) / out.height());
     vtkRenderer* r = out.addRenderer();
     r->SetViewport(0.0, 0.0, 1.0, strip);
     r->SetBackground(0.07, 0.07, 0.08);
-    auto text = captionActor(caption, out.height());
-    text->GetTextProperty()->SetFontSize(font);
-    if (monospace) text->GetTextProperty()->SetFontFamilyToCourier();  // columns of figures line up
+    text->SetPosition(margin, margin);
     r->AddActor2D(text);
     return strip;
 }
@@ -348,21 +277,32 @@ void addImagePanel(vtkRenderer* renderer, vtkImageData* image, const std::string
 void addImagePanelWithBar(VtkOffscreen& out, vtkImageData* image, const std::string& array, vtkLookupTable* lut,
                           const std::string& title, const std::string& barTitle, double x0, double y0, double x1,
                           double y1) {
-    const double split = x0 + (x1 - x0) * 0.8;
+    // The bar takes the width its labels need (measured), at most half the panel.
+    const double barWidth = std::min(0.5 * (x1 - x0), double(colourBarWidthPx(lut, barTitle, out.height())) / out.width());
+    const double split = x1 - barWidth;
     vtkRenderer* panel = out.addRenderer();
     panel->SetViewport(x0, y0, split, y1);
     panel->SetBackground(0.12, 0.12, 0.14);
     addImagePanel(panel, image, array, lut);
     int* dims = image->GetDimensions();
-    fitImage(panel, dims[0], dims[1], (split - x0) * out.width() / ((y1 - y0) * out.height()));
+    // Room at the top for the title (one line of the standard's text).
+    const double titleShare = std::min(0.4, 1.6 * textPx(out.height()) / ((y1 - y0) * out.height()));
+    fitImage(panel, dims[0], dims[1], (split - x0) * out.width() / ((y1 - y0) * (1.0 - titleShare) * out.height()));
+    {
+        vtkCamera* camera = panel->GetActiveCamera();
+        const double scale = camera->GetParallelScale() / (1.0 - titleShare);
+        double* f = camera->GetFocalPoint();
+        const double shift = scale * titleShare;  // the image moves down by the title's share
+        camera->SetParallelScale(scale);
+        camera->SetFocalPoint(f[0], f[1] + shift, f[2]);
+        double* p = camera->GetPosition();
+        camera->SetPosition(p[0], p[1] + shift, p[2]);
+    }
     panel->AddActor2D(titleActor(title, out.height()));
     vtkRenderer* side = out.addRenderer();
     side->SetViewport(split, y0, x1, y1);
     side->SetBackground(0.12, 0.12, 0.14);
-    auto bar = colourBar(lut, barTitle);
-    bar->SetPosition(0.0, 0.08);
-    bar->SetPosition2(0.8, 0.84);
-    side->AddActor2D(bar);
+    addColourBar(side, lut, barTitle, out.height());
 }
 
 vtkSmartPointer<vtkActor> lineActor(const std::vector<std::pair<glm::vec3, glm::vec3>>& lines, glm::vec3 rgb,
@@ -471,7 +411,9 @@ ViewResult renderView(Renderer& renderer, const Scene& scene, const ViewRequest&
         out.window()->RemoveRenderer(out.window()->GetRenderers()->GetFirstRenderer());
     ViewResult result;
     view.build(ctx, result);
+    wrapTextsToViewports(out);
     result.image = out.render();
+    result.texts = textLayout(out);
     return result;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "text_box.h"
 
 namespace shadowlab {
 
@@ -43,6 +44,7 @@ struct ViewResult {
     Image image;          // RGBA, row 0 at the top, opaque
     std::string caption;  // the text drawn under the picture (also for a panel's tooltip, tests)
     nlohmann::json data;  // the numbers behind the picture (picked point, metrics, ...)
+    std::vector<TextBox> texts;  // every text drawn, with its box (style.h): the layout the tests check
 };
 
 struct ViewInfo {

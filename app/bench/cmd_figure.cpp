@@ -47,13 +47,24 @@ struct Cell {
     double labelShadowMs = 0.0;
 };
 
-// Lays the figure out and draws it.
-Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>& cells, float errorMax) {
+// One label as drawn: its lines and box in the picture (the sidecar's "layout", which the tests read).
+struct LabelBox {
+    std::string what;  // "title", "row 0 header", "cell 0,1 label", "error bar caption", ...
+    std::vector<std::string> lines;
+    int x = 0, y = 0, w = 0, h = 0;
+};
+
+// Lays the figure out and draws it. Text follows the views' standard (viz/README.md): an em of at
+// least 14 px and 1/30 of a cell's height (stb_easy_font's em is about 10 units, its capitals 7, so
+// the scale is at least 2: 14 px capitals); labels wrap and their cell grows, never cut.
+Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>& cells, float errorMax,
+                    std::vector<LabelBox>& layout) {
     const int W = spec.width, H = spec.height;
-    const int ts = spec.textScale > 0 ? spec.textScale : std::max(1, W / 128);
+    const int ts = spec.textScale > 0 ? spec.textScale : std::max(2, (std::max(14, int(std::lround(H / 30.0))) + 9) / 10);
     const int pad = 4 * ts, lineH = figure::textHeight(ts) - 2 * ts;
     const int rowsCount = int(spec.rows.size()), colsCount = int(spec.columns.size());
     const bool insetsOn = !spec.insets.empty();
+    const int figureW = pad + colsCount * (W + pad);
     auto insetsOf = [&](int r) {
         std::vector<std::pair<int, Inset>> out;
         for (size_t i = 0; i < spec.insets.size(); ++i)
@@ -68,34 +79,83 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
         for (const auto& [i, in] : list) h = std::max(h, int(std::lround(double(insetWidth(r)) * in.h / in.w)));
         return list.empty() ? 0 : h + pad;
     };
-    const int labelLines = 4;
-    const int labelH = labelLines * lineH + pad;
-    const int titleH = spec.title.empty() ? pad : 2 * lineH + 2 * pad;
-    const int headerH = lineH + pad;  // the row's label line
-    int total = titleH;
-    std::vector<int> rowTop;
-    for (int r = 0; r < rowsCount; ++r) {
-        rowTop.push_back(total);
-        total += headerH + H + insetHeight(r) + labelH + (spec.errorMaps ? H + pad : 0) + pad;
-    }
-    const int barH = spec.errorMaps ? 10 * ts + lineH * 2 + 3 * pad : 0;
-    const int figureW = pad + colsCount * (W + pad);
-    Image out(figureW, total + barH, 3);
-    figure::fill(out, 0, 0, out.width, out.height, kBackground);
-    if (!spec.title.empty()) figure::text(out, figure::fitText(spec.title, ts, figureW - 2 * pad), pad, pad, ts, kInk);
+    auto wrap = [&](const std::string& text, int width, const std::string& what) {
+        return figure::wrapText(text, ts, width, what);
+    };
 
+    // Every label's lines first: a row's label block is as tall as its tallest cell's.
+    struct CellText {
+        std::vector<std::pair<std::vector<std::string>, Rgb>> parts;
+        int lines = 0;
+    };
+    std::vector<std::vector<CellText>> cellText(static_cast<size_t>(rowsCount));
+    std::vector<std::vector<std::string>> headers(static_cast<size_t>(rowsCount));
+    std::vector<int> labelH(static_cast<size_t>(rowsCount), 0);
     for (int r = 0; r < rowsCount; ++r) {
         const FigureRow& row = spec.rows[size_t(r)];
         const Measurement& first = cells[size_t(r)][0].m;
         std::string header = row.label.empty() ? row.scene : row.label;
         header += "  (light size " + fmt("%g", first.lightSize) + ", " + std::to_string(W * spec.supersample) + "x" +
-                  std::to_string(H * spec.supersample) + (spec.supersample > 1 ? " rendered, shown at " + std::to_string(W) + "x" + std::to_string(H) : "") + ")";
-        figure::text(out, figure::fitText(header, ts, out.width - 2 * pad), pad, rowTop[size_t(r)] + pad / 2, ts, kInk);
-        const int imageTop = rowTop[size_t(r)] + headerH;
-        const auto insets = insetsOf(r);
+                  std::to_string(H * spec.supersample) +
+                  (spec.supersample > 1 ? " rendered, shown at " + std::to_string(W) + "x" + std::to_string(H) : "") + ")";
+        headers[size_t(r)] = wrap(header, figureW - 2 * pad, "row " + std::to_string(r) + " header");
+        int most = 0;
         for (int c = 0; c < colsCount; ++c) {
             const Cell& cell = cells[size_t(r)][size_t(c)];
             const FigureColumn& col = spec.columns[size_t(c)];
+            std::string name = col.label.empty() ? cell.m.setting.technique : col.label;
+            if (!cell.m.techniqueRan.empty() && cell.m.techniqueRan != cell.m.setting.technique)
+                name += " (ran " + cell.m.techniqueRan + ")";
+            const std::string what = "label of cell " + std::to_string(r) + "," + std::to_string(c);
+            CellText t;
+            t.parts.push_back({wrap(name, W, what), kInk});
+            t.parts.push_back({wrap(Setting{cell.m.setting.technique, cell.m.setting.sets}.describe(), W, what), kGreyInk});
+            t.parts.push_back({wrap("shadow " + fmt("%.2f", cell.labelShadowMs) + " ms", W, what), kGreyInk});
+            if (cell.error.width)
+                t.parts.push_back({wrap("RMSE " + fmt("%.4f", cell.m.all.rmse) + "  SSIM " + fmt("%.3f", cell.m.all.ssim), W, what),
+                                   kGreyInk});
+            for (const auto& [lines, colour] : t.parts) t.lines += int(lines.size());
+            most = std::max(most, t.lines);
+            cellText[size_t(r)].push_back(t);
+        }
+        labelH[size_t(r)] = most * lineH + pad;
+    }
+    const std::vector<std::string> title = spec.title.empty() ? std::vector<std::string>{} : wrap(spec.title, figureW - 2 * pad, "title");
+    const int titleH = title.empty() ? pad : int(title.size()) * lineH + 2 * pad;
+    std::vector<int> rowTop;
+    int total = titleH;
+    for (int r = 0; r < rowsCount; ++r) {
+        rowTop.push_back(total);
+        const int headerH = int(headers[size_t(r)].size()) * lineH + pad;
+        total += headerH + H + insetHeight(r) + labelH[size_t(r)] + (spec.errorMaps ? H + pad : 0) + pad;
+    }
+    const std::string barCaption = "|v - v_ref|: visibility error against " + spec.reference.describe() +
+                                   " (grey: no data, the background)";
+    const std::vector<std::string> caption = spec.errorMaps ? wrap(barCaption, figureW - 2 * pad, "error bar caption")
+                                                            : std::vector<std::string>{};
+    const int barH = spec.errorMaps ? 10 * ts + lineH * (1 + int(caption.size())) + 3 * pad : 0;
+    Image out(figureW, total + barH, 3);
+    figure::fill(out, 0, 0, out.width, out.height, kBackground);
+    auto drawLines = [&](const std::vector<std::string>& lines, int left, int top, Rgb colour, const std::string& what,
+                         bool centred = false, int span = 0) {
+        LabelBox box{what, lines, left, top, 0, int(lines.size()) * lineH};
+        for (size_t i = 0; i < lines.size(); ++i) {
+            const int w = figure::textWidth(lines[i], ts);
+            const int x = centred ? left + (span - w) / 2 : left;
+            figure::text(out, lines[i], x, top + int(i) * lineH, ts, colour);
+            box.x = i == 0 ? x : std::min(box.x, x);
+            box.w = std::max(box.w, x + w - box.x);
+        }
+        layout.push_back(box);
+    };
+    if (!title.empty()) drawLines(title, pad, pad, kInk, "title");
+
+    for (int r = 0; r < rowsCount; ++r) {
+        drawLines(headers[size_t(r)], pad, rowTop[size_t(r)] + pad / 2, kInk, "row " + std::to_string(r) + " header");
+        const int imageTop = rowTop[size_t(r)] + int(headers[size_t(r)].size()) * lineH + pad;
+        const auto insets = insetsOf(r);
+        for (int c = 0; c < colsCount; ++c) {
+            const Cell& cell = cells[size_t(r)][size_t(c)];
             const int left = pad + c * (W + pad);
             figure::blit(out, cell.picture, left, imageTop);
             // Insets: the rectangle marked on the full picture, the zoom beneath it.
@@ -121,19 +181,14 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
             } else if (insetsOn) {
                 y += insetHeight(r);
             }
-            // Labels: technique and setting; time; error.
-            std::string name = col.label.empty() ? cell.m.setting.technique : col.label;
-            if (!cell.m.techniqueRan.empty() && cell.m.techniqueRan != cell.m.setting.technique)
-                name += " (ran " + cell.m.techniqueRan + ")";
-            std::string setting = Setting{cell.m.setting.technique, cell.m.setting.sets}.describe();
-            auto fit = [&](std::string t) { return figure::fitText(t, ts, W); };
-            figure::text(out, fit(name), left, y + pad / 2, ts, kInk);
-            figure::text(out, fit(setting), left, y + pad / 2 + lineH, ts, kGreyInk);
-            figure::text(out, fit("shadow " + fmt("%.2f", cell.labelShadowMs) + " ms"), left, y + pad / 2 + 2 * lineH, ts, kGreyInk);
-            if (cell.error.width)
-                figure::text(out, fit("RMSE " + fmt("%.4f", cell.m.all.rmse) + "  SSIM " + fmt("%.3f", cell.m.all.ssim)), left,
-                             y + pad / 2 + 3 * lineH, ts, kGreyInk);
-            y += labelH;
+            // Labels: technique and setting; time; error; each part wrapped to the cell's width.
+            int ly = y + pad / 2;
+            const std::string what = "cell " + std::to_string(r) + "," + std::to_string(c) + " label";
+            for (const auto& [lines, colour] : cellText[size_t(r)][size_t(c)].parts) {
+                drawLines(lines, left, ly, colour, what);
+                ly += int(lines.size()) * lineH;
+            }
+            y += labelH[size_t(r)];
             if (spec.errorMaps) {
                 if (cell.error.width) {
                     figure::blit(out, figure::colourError(cell.error, errorMax), left, y);
@@ -154,12 +209,10 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
         figure::blit(out, bar, left, top);
         figure::outline(out, left - 1, top - 1, left + barW + 1, top + 10 * ts + 1, 1, kInk);
         const int ty = top + 10 * ts + pad / 2;
-        figure::text(out, "0", left, ty, ts, kInk);
-        std::string maxText = fmt("%.3g", errorMax);
-        figure::text(out, maxText, left + barW - figure::textWidth(maxText, ts), ty, ts, kInk);
-        std::string caption = "|v - v_ref|: visibility error against " + spec.reference.describe() + " (grey: background)";
-        caption = figure::fitText(caption, ts, figureW - 2 * pad);
-        figure::text(out, caption, std::max(pad, (figureW - figure::textWidth(caption, ts)) / 2), ty + lineH, ts, kInk);
+        drawLines({"0"}, left, ty, kInk, "error bar 0");
+        const std::string maxText = fmt("%.3g", errorMax);
+        drawLines({maxText}, left + barW - figure::textWidth(maxText, ts), ty, kInk, "error bar maximum");
+        drawLines(caption, pad, ty + lineH, kInk, "error bar caption", true, figureW - 2 * pad);
     }
     return out;
 }
@@ -252,7 +305,11 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
     }
     if (remakeFrom && remakeFrom->contains("error_max")) errorMax = (*remakeFrom)["error_max"].get<float>();
     if (!(errorMax > 0.0f)) errorMax = 1.0f;  // every cell equals the reference: a scale of 1
-    Image picture = composeFigure(spec, cells, errorMax);
+    std::vector<LabelBox> layout;
+    Image picture = composeFigure(spec, cells, errorMax, layout);
+    json layoutJson = json::array();
+    for (const LabelBox& b : layout)
+        layoutJson.push_back({{"what", b.what}, {"lines", b.lines}, {"box", {b.x, b.y, b.w, b.h}}});
 
     RunInfo info = currentRunInfo(context->renderer());
     json side{{"shadowlab_figure", 1},
@@ -265,7 +322,8 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
               {"gl_renderer", info.glRenderer},
               {"machine", {{"cpu", info.cpu}, {"lp_num_threads", info.lpNumThreads}, {"load_average", info.loadAverage}}},
               {"date", info.date},
-              {"picture_size", {picture.width, picture.height}}};
+              {"picture_size", {picture.width, picture.height}},
+              {"layout", layoutJson}};
     if (remakeFrom) side["remade_from"] = {{"date", remakeFrom->value("date", "")}, {"out", remakeFrom->value("out", "")}};
     OutputSet outputs;
     if (fs::path(out).extension() == ".pdf")

@@ -11,6 +11,7 @@
 
 #include "error.h"
 #include "image/metrics.h"
+#include "image/palette.h"
 
 #include <stb/stb_easy_font.h>
 
@@ -41,10 +42,59 @@ void outline(Image& image, int x0, int y0, int x1, int y1, int t, Rgb c) {
 }
 
 int textWidth(const std::string& s, int scale) { return stb_easy_font_width(const_cast<char*>(s.c_str())) * scale; }
-std::string fitText(std::string s, int scale, int maxWidth) {
-    if (textWidth(s, scale) <= maxWidth) return s;
-    while (s.size() > 2 && textWidth(s + "..", scale) > maxWidth) s.pop_back();
-    return s + "..";
+std::vector<std::string> wrapText(const std::string& s, int scale, int maxWidth, const std::string& what) {
+    // stb_easy_font's width of one line is the sum of its characters' advances, so widths add up and
+    // the wrap is linear in the text's length.
+    auto width = [&](const std::string& t) { return textWidth(t, scale); };
+    std::vector<std::string> lines;
+    std::istringstream in(s);
+    std::string paragraph;
+    while (std::getline(in, paragraph)) {
+        std::string current;
+        int currentW = 0;
+        std::istringstream words(paragraph);
+        std::string word;
+        bool any = false;
+        while (words >> word) {
+            any = true;
+            const int space = current.empty() ? 0 : width(" ");
+            const int w = width(word);
+            if (currentW + space + w <= maxWidth) {
+                current += (current.empty() ? "" : " ") + word;
+                currentW += space + w;
+                continue;
+            }
+            if (!current.empty()) lines.push_back(current);
+            current.clear();
+            currentW = 0;
+            // A word wider than the line: pieces that fit, cut after '/', ',', '=', '_' or '-' where one
+            // is in the second half of the piece, else between characters.
+            size_t start = 0;
+            while (start < word.size()) {
+                size_t end = start;
+                int pw = 0;
+                while (end < word.size() && pw + width(word.substr(end, 1)) <= maxWidth) pw += width(word.substr(end++, 1));
+                if (end == start)
+                    throw InputError("figure: the " + what + " '" + s.substr(0, 60) + (s.size() > 60 ? "...'" : "'") +
+                                     " cannot fit " + std::to_string(maxWidth) + " px at text scale " +
+                                     std::to_string(scale) + " (one character is wider): give a larger width or a "
+                                     "smaller text_scale");
+                if (end < word.size())
+                    for (size_t k = end; k > start + (end - start) / 2; --k)
+                        if (std::string("/,=_-").find(word[k - 1]) != std::string::npos) {
+                            end = k;
+                            break;
+                        }
+                const std::string piece = word.substr(start, end - start);
+                if (end < word.size()) lines.push_back(piece);
+                else current = piece, currentW = width(piece);
+                start = end;
+            }
+        }
+        if (!current.empty() || !any) lines.push_back(current);
+    }
+    if (lines.empty()) lines.push_back("");
+    return lines;
 }
 
 int textHeight(int scale) { return 12 * scale; }
@@ -74,7 +124,7 @@ void blit(Image& dst, const Image& src, int left, int top) {
             if (dx < 0 || dy < 0 || dx >= dst.width || dy >= dst.height) continue;
             for (int c = 0; c < 3; ++c) {
                 float v = src.at(x, y, src.channels == 1 ? 0 : c);
-                dst.at(dx, dy, c) = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+                dst.at(dx, dy, c) = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : kBackgroundGrey[c];  // no data
             }
         }
 }

@@ -3,6 +3,7 @@
 // map, and a one-page PDF holding a raster image.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 
@@ -18,10 +19,13 @@ void outline(Image& image, int x0, int y0, int x1, int y1, int thickness, Rgb co
 // Text with its top-left corner at (left, top); returns the width drawn.
 int text(Image& image, const std::string& s, int left, int top, int scale, Rgb colour);
 int textWidth(const std::string& s, int scale);
-// `s` shortened (ending in "..") until it is at most maxWidth pixels wide.
-std::string fitText(std::string s, int scale, int maxWidth);
+// `s` as lines at most maxWidth pixels wide: wrapped at spaces, a longer word cut after '/', ',', '=',
+// '_' or '-', else between characters; never shortened. InputError naming `what` and the text when
+// even one character is wider than maxWidth.
+std::vector<std::string> wrapText(const std::string& s, int scale, int maxWidth, const std::string& what);
 int textHeight(int scale);
-// Copies `src` (1 or 3 channels; 1 channel is shown grey) into `dst` at (left, top).
+// Copies `src` (1 or 3 channels; 1 channel is shown grey) into `dst` at (left, top); NaN (no data)
+// becomes kBackgroundGrey.
 void blit(Image& dst, const Image& src, int left, int top);
 // Box-filter reduction by an integer factor (supersampling); NaN samples are skipped.
 Image downsample(const Image& src, int factor);

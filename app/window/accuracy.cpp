@@ -74,7 +74,7 @@ void Window::drawAccuracyChart() {
         view->GetRenderer()->SetBackgroundAlpha(1.0);
         AccuracyTimePanel panel{(scene_ ? scene_->name : std::string()) + ": RMSE against the reference", accuracyPoints_};
         AccuracyTimeStyle style;
-        style.fontSize = int(12 * s);
+        style.fontSize = std::max(14, int(14 * s));
         if (!accuracyPoints_.empty()) view->GetScene()->AddItem(buildAccuracyTimeChart(panel, style));
         accuracyFrame_->renderToTexture();
         accuracyDirty_ = false;

@@ -2,6 +2,7 @@
 // sidecar, `--remake` giving the identical PNG, a PDF, and bad specs refused with file and field.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -73,11 +74,33 @@ TEST(Figure, GridWithInsetsAndErrorMapsAndRemakeGivesTheSamePng) {
     // Hard shadows are further from the reference than the 16-sample average.
     EXPECT_GT(side["cells"][1]["rmse"].get<double>(), side["cells"][0]["rmse"].get<double>());
 
+    // The layout record: every label whole (wrapped, never cut to ".."), inside the picture, none
+    // over another (issue 19's text standard).
+    ASSERT_TRUE(side.contains("layout"));
+    const int pw = side["picture_size"][0], ph = side["picture_size"][1];
+    std::vector<std::array<int, 4>> boxes;
+    for (const auto& label : side["layout"]) {
+        for (const auto& line : label["lines"]) {
+            const std::string t = line.get<std::string>();
+            EXPECT_FALSE(t.size() >= 2 && t.compare(t.size() - 2, 2, "..") == 0) << label.dump();
+        }
+        std::array<int, 4> b = {label["box"][0], label["box"][1], label["box"][2], label["box"][3]};
+        EXPECT_GE(b[0], 0) << label.dump();
+        EXPECT_GE(b[1], 0) << label.dump();
+        EXPECT_LE(b[0] + b[2], pw) << label.dump();
+        EXPECT_LE(b[1] + b[3], ph) << label.dump();
+        for (const auto& o : boxes)
+            EXPECT_FALSE(b[0] < o[0] + o[2] && o[0] < b[0] + b[2] && b[1] < o[1] + o[3] && o[1] < b[1] + b[3])
+                << label.dump() << " overlaps another label";
+        boxes.push_back(b);
+    }
+    EXPECT_GE(boxes.size(), 6u * 4u) << "every cell's label parts";
+
     // The picture: insets marked (yellow, blue outlines) and error maps (inferno's yellow-white top).
     int w = 0, h = 0, n = 0;
     unsigned char* png = stbi_load((dir + "/fig.png").c_str(), &w, &h, &n, 3);
     ASSERT_NE(png, nullptr);
-    EXPECT_EQ(w, 4 + 3 * (64 + 4));
+    EXPECT_EQ(w, 8 + 3 * (64 + 8));  // text scale 2 (14 px capitals): padding 8
     auto count = [&](int r0, int g0, int b0, int tol) {
         int c = 0;
         for (int i = 0; i < w * h; ++i)

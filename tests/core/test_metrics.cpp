@@ -148,6 +148,19 @@ TEST(Metrics, PenumbraMaskIsStrictlyBetweenZeroAndOne) {
     EXPECT_EQ(mask, expected);
 }
 
+// The height of the white label text under the colour bar (the rows below the bar's last row).
+int labelHeightUnderBar(const Image& map, int h) {
+    int barBottom = h;
+    for (int y = h; y < map.height; ++y)
+        if (std::abs(map.at(map.width / 2, y, 0) - 0.12f) > 1e-3f && map.at(map.width / 2, y, 0) != 1.0f) barBottom = y;
+    int top = map.height, bottom = -1;
+    for (int y = barBottom + 1; y < map.height; ++y)
+        for (int x = 0; x < map.width; ++x)
+            if (map.at(x, y, 0) == 1.0f && map.at(x, y, 1) == 1.0f && map.at(x, y, 2) == 1.0f)
+                top = std::min(top, y), bottom = std::max(bottom, y);
+    return bottom - top + 1;
+}
+
 TEST(Heatmap, SizeColoursAndColourBar) {
     const int w = 64;
     const int h = 32;
@@ -167,16 +180,23 @@ TEST(Heatmap, SizeColoursAndColourBar) {
     EXPECT_EQ(map.at(20, 10, 0), 0.5f);
     EXPECT_EQ(map.at(20, 10, 1), 0.5f);
 
-    // The colour bar: a row of the strip running from dark on the left to bright on the right.
+    // The colour bar: a row of the strip running from dark on the left to bright on the right (its
+    // ends: the first and last pixels of the row that are not the strip's background).
     int barRows = 0;
+    auto isBackground = [&](int x, int y) { return std::abs(map.at(x, y, 0) - 0.12f) < 1e-3f && std::abs(map.at(x, y, 2) - 0.12f) < 1e-3f; };
     for (int y = h; y < map.height; ++y) {
-        float left = map.at(4, y, 0) + map.at(4, y, 1) + map.at(4, y, 2);
-        float right = map.at(w - 5, y, 0) + map.at(w - 5, y, 1) + map.at(w - 5, y, 2);
-        float mid = map.at(w / 2, y, 0);
+        int x0 = 0, x1 = w - 1;
+        while (x0 < w && isBackground(x0, y)) ++x0;
+        while (x1 > x0 && isBackground(x1, y)) --x1;
+        if (x1 - x0 < w / 2) continue;
+        float left = map.at(x0, y, 0) + map.at(x0, y, 1) + map.at(x0, y, 2);
+        float right = map.at(x1, y, 0) + map.at(x1, y, 1) + map.at(x1, y, 2);
+        float mid = map.at((x0 + x1) / 2, y, 0);
         if (left < 0.2f && right > 2.4f && mid > 0.3f) ++barRows;
     }
     EXPECT_GE(barRows, 5);
-    // The labels "0" (left) and the maximum (right) in white text under the bar.
+    // The labels "0" (left) and the maximum (right) in white text under the bar, at least 14 px high
+    // (the text standard, viz/README.md: stb_easy_font's capitals are 7 units, so a scale of 2).
     int whiteLeft = 0;
     int whiteRight = 0;
     for (int y = h; y < map.height; ++y) {
@@ -188,6 +208,24 @@ TEST(Heatmap, SizeColoursAndColourBar) {
     }
     EXPECT_GT(whiteLeft, 3);
     EXPECT_GT(whiteRight, 10);  // "0.25" has more ink than "0"
+    EXPECT_GE(labelHeightUnderBar(map, h), 14) << "label text under the standard's 14 px";
+}
+
+// A wide heat map has room for the bar's title and the grey "no data" swatch beside the bar, and
+// its text grows with the picture (1/30 of its height).
+TEST(Heatmap, WideMapsStateTheBackgroundAndScaleTheirText) {
+    const int w = 600, h = 600;
+    Image reference(w, h, 1, 0.5f);
+    Image test = reference;
+    test.at(10, 10) = 0.75f;
+    Image map = errorHeatmap(test, reference);
+    int grey = 0;
+    for (int y = h; y < map.height; ++y)
+        for (int x = 0; x < w; ++x)
+            if (map.at(x, y, 0) == 0.5f && map.at(x, y, 1) == 0.5f && map.at(x, y, 2) == 0.5f) ++grey;
+    EXPECT_GT(grey, 100) << "the no-data swatch";
+    // An em of 1/30 of the picture's height: capitals of at least 0.65 of it.
+    EXPECT_GE(labelHeightUnderBar(map, h), int(0.65 * map.height / 30.0)) << "text at least 1/30 of the picture's height";
 }
 
 TEST(Heatmap, ExplicitScaleAndIdenticalImages) {

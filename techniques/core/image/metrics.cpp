@@ -4,6 +4,8 @@
 // (background pixels hold v = 1 in both, NaN marks "no data") and the mask, if any, selects it.
 #include "image/metrics.h"
 
+#include "image/palette.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -138,25 +140,6 @@ double meanSsim(const Image& x, const Image& y, Take take) {
     return total;
 }
 
-// Inferno colour map (perceptually uniform, readable in greyscale print), the CC0 polynomial fit
-// by Matt Zucker of matplotlib's table; t in [0,1].
-void inferno(float t, float rgb[3]) {
-    static const double c[7][3] = {
-        {0.0002189403691192265, 0.001651004631001012, -0.01948089843709184},
-        {0.1065134194856116, 0.5639564367884091, 3.932712388889277},
-        {11.60249308247187, -3.972853965665698, -15.9423941062914},
-        {-41.70399613139459, 17.43639888205313, 44.35414519872813},
-        {77.162935699427, -33.40235894210092, -81.80730925738993},
-        {-71.31942824499214, 32.62606426397723, 73.20951985803202},
-        {25.13112622477341, -12.24266895238567, -23.07032500287172},
-    };
-    for (int k = 0; k < 3; ++k) {
-        double v = c[6][k];
-        for (int p = 5; p >= 0; --p) v = c[p][k] + t * v;
-        rgb[k] = float(std::clamp(v, 0.0, 1.0));
-    }
-}
-
 void fillRect(Image& image, int x0, int y0, int x1, int y1, const float rgb[3]) {
     x0 = std::max(x0, 0);
     y0 = std::max(y0, 0);
@@ -255,48 +238,62 @@ Image errorHeatmap(const Image& test, const Image& reference, float maxError) {
         if (!(maxError > 0.0f)) maxError = 1.0f;  // identical images: a scale of 1 shows all black
     }
 
-    // Colour bar layout under the image, in units of the font's pixel, scaled with the image width
-    // so the labels stay readable on large figures.
-    const int scale = std::max(1, w / 384);
+    // The colour bar under the image: its text at least 1/30 of the picture's height and never under
+    // 14 px (issue 19's text standard, viz/README.md: stb_easy_font's em is about 10 units, its
+    // capitals 7, so a scale of 2 at least), a title, the two end labels and the background's grey
+    // swatch, laid out left to right without overlap.
+    const int em = std::max(14, int(std::lround((h + 64) / 30.0)));
+    const int scale = std::max(2, (em + 9) / 10);
     char maxLabel[32];
     std::snprintf(maxLabel, sizeof maxLabel, "%.3g", double(maxError));
     const std::string zeroLabel = "0";
+    const std::string title = "|v - v_ref|";
+    const std::string noData = "no data";
     const int margin = 3 * scale;
     const int barHeight = 10 * scale;
     const int textHeightPx = std::max(textHeight(zeroLabel), textHeight(maxLabel)) * scale;
     const int stripHeight = margin + barHeight + margin + textHeightPx + margin;
 
     Image out(w, h + stripHeight, 3, 0.0f);
-    const float grey[3] = {0.5f, 0.5f, 0.5f};
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             float a = test.at(x, y);
             float b = reference.at(x, y);
-            float rgb[3];
-            if (bothFinite(a, b)) {
-                inferno(std::min(std::abs(a - b) / maxError, 1.0f), rgb);
-            } else {
-                std::copy(grey, grey + 3, rgb);
-            }
+            glm::vec3 rgb = bothFinite(a, b) ? paletteColour(Palette::AbsoluteError, std::min(std::abs(a - b) / maxError, 1.0f))
+                                             : kBackgroundGrey;
             for (int c = 0; c < 3; ++c) out.at(x, y, c) = rgb[c];
         }
     }
 
     const float background[3] = {0.12f, 0.12f, 0.12f};
     const float white[3] = {1.0f, 1.0f, 1.0f};
+    const float grey[3] = {kBackgroundGrey.r, kBackgroundGrey.g, kBackgroundGrey.b};
     fillRect(out, 0, h, w, h + stripHeight, background);
-    const int barLeft = std::min(margin, w / 4);
-    const int barRight = std::max(w - barLeft, barLeft + 1);
+    // Title at the left, the bar in the middle with 0 and the maximum under its ends, the grey
+    // swatch and "no data" at the right. A picture too narrow for all of it keeps the bar and its
+    // two labels (the title and swatch need their own width, never drawn over the bar).
+    const int titleWidth = textWidth(title) * scale + 2 * margin;
+    const int swatchWidth = barHeight + margin + textWidth(noData) * scale + 2 * margin;
+    const int minBar = (textWidth(zeroLabel) + textWidth(maxLabel)) * scale + 4 * margin;
+    const bool sides = w - titleWidth - swatchWidth >= minBar;
+    const int barLeft = sides ? titleWidth : std::min(margin, w / 4);
+    const int barRight = std::max(sides ? w - swatchWidth : w - barLeft, barLeft + 1);
     const int barTop = h + margin;
     for (int x = barLeft; x < barRight && x < w; ++x) {
         float t = barRight - barLeft > 1 ? float(x - barLeft) / float(barRight - barLeft - 1) : 1.0f;
-        float rgb[3];
-        inferno(t, rgb);
+        glm::vec3 c = paletteColour(Palette::AbsoluteError, t);
+        const float rgb[3] = {c.r, c.g, c.b};
         fillRect(out, x, barTop, x + 1, barTop + barHeight, rgb);
     }
     const int textTop = barTop + barHeight + margin;
     drawText(out, zeroLabel, barLeft, textTop, scale, white);
     drawText(out, maxLabel, barRight - textWidth(maxLabel) * scale, textTop, scale, white);
+    if (sides) {
+        drawText(out, title, margin, barTop + (barHeight - 7 * scale) / 2, scale, white);
+        const int sx = barRight + 2 * margin;
+        fillRect(out, sx, barTop, sx + barHeight, barTop + barHeight, grey);
+        drawText(out, noData, sx + barHeight + margin, barTop + (barHeight - 7 * scale) / 2, scale, white);
+    }
     return out;
 }
 
