@@ -1,8 +1,9 @@
 // The `backprojection` view (viz/view_backprojection.cpp) on ssm-contour and ssm-gbp06: the visible
 // fraction it prints equals the technique's visibility at the pixel, its export loads back with one
 // cell per edge or sample (and one for the initial area), each cell's polygon has the area the
-// record gives it and the cells add up to the occluded area; the hsm view marks the kernel steps
-// `render --pixel` records; techniques without the record are refused.
+// record gives it and the cells add up to the occluded area; the hsm view (viz/view_hsm.cpp) marks
+// the kernel steps `render --pixel` records, labels every level and draws the kernel in the colour
+// its title names; techniques without the record are refused.
 #include <gtest/gtest.h>
 
 #include <vtkActor.h>
@@ -275,6 +276,65 @@ TEST_F(BackprojectionView, HsmCropsToTheCasters) {
     EXPECT_LT(side, 0.6 * 512) << crop.dump();
     EXPECT_NEAR(crop[3].get<double>() - crop[1].get<double>(), side, 1e-9);  // square, as the levels are
     EXPECT_NE(r.caption.find("shown (the casters)"), std::string::npos) << r.caption;
+}
+
+// Issue 19: the hsm view draws what its title promises. Every level is a tile labelled with its
+// number and texel size in level-0 texels; the converged kernel is drawn in the colour the title
+// names (cyan), which appears in the picture with a picked pixel and nowhere without one (the depth
+// map's colours never reach it); each step's number is a label on its level.
+TEST_F(BackprojectionView, HsmLabelsEveryLevelAndDrawsTheKernelInTheTitlesColour) {
+    Scene scene = loadScene("plant");
+    Renderer renderer(scene, options("ssm-contour", 160, 120, "512"));
+    auto cyanPixels = [](const Image& image) {
+        int n = 0;
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x)
+                if (image.at(x, y, 0) < 0.4f && image.at(x, y, 1) > 0.85f && image.at(x, y, 2) > 0.85f) ++n;
+        return n;
+    };
+    // A penumbra pixel (0.05 < v < 0.95), the middle one in scan order: its kernel refines.
+    renderer.renderFrame(0, {"visibility"});
+    const Image vis = renderer.visibility();
+    std::vector<glm::ivec2> penumbra;
+    for (int y = 0; y < vis.height; ++y)
+        for (int x = 0; x < vis.width; ++x)
+            if (renderer.ids().at(x, y) >= 0.0f && vis.at(x, y) > 0.05f && vis.at(x, y) < 0.95f) penumbra.push_back({x, y});
+    ASSERT_FALSE(penumbra.empty());
+    ViewRequest request = viewRequest("hsm", penumbra[penumbra.size() / 2]);
+    request.width = 800;
+    request.height = 600;
+    ViewResult r = renderView(renderer, scene, request);
+    EXPECT_NE(r.data["title"].get<std::string>().find("kernel (cyan)"), std::string::npos) << r.data["title"];
+    EXPECT_EQ(r.data["kernel_colour"], nlohmann::json({0.2f, 1.0f, 1.0f}));
+    ASSERT_TRUE(r.data.contains("kernel_range")) << r.data.dump();
+    EXPECT_NE(r.caption.find("(penumbra)"), std::string::npos) << r.caption;
+    const int cyan = cyanPixels(r.image);
+    EXPECT_GE(cyan, 40) << "the kernel's outline, on every level's two tiles";
+    const int levels = r.data["levels"].get<int>();
+    EXPECT_EQ(levels, 9);  // 256x256 .. 1x1 over a 512x512 map
+    ASSERT_EQ(r.data["levels_drawn"].size(), size_t(levels));
+    for (int k = 1; k <= levels; ++k) {
+        const auto& drawn = r.data["levels_drawn"][size_t(k - 1)];
+        const std::string n = std::to_string(1 << k);
+        EXPECT_EQ(drawn["level"].get<int>(), k);
+        EXPECT_EQ(drawn["texel_size"].get<int>(), 1 << k);
+        EXPECT_EQ(drawn["label"].get<std::string>(), "level " + std::to_string(k) + ", " + n + "x" + n + " texels");
+        EXPECT_EQ(drawn["text"].get<std::string>(), "level " + std::to_string(k) + ",\n" + n + "x" + n + " texels");  // as drawn
+    }
+    // Every step is numbered once, on the level it read.
+    const auto& steps = r.data["steps"];
+    ASSERT_GE(steps.size(), 1u);
+    std::string numbered;
+    for (const auto& label : r.data["step_labels"]) {
+        numbered += label["text"].get<std::string>() + ", ";
+        EXPECT_EQ(label["drawn_on_level"].get<int>(), std::max(1, label["level"].get<int>()));
+    }
+    for (size_t i = 0; i < steps.size(); ++i)
+        EXPECT_NE(numbered.find(std::to_string(i + 1)), std::string::npos) << numbered;
+    // No picked pixel: no kernel, no cyan.
+    ViewRequest none = request;
+    none.pixel.reset();
+    EXPECT_EQ(cyanPixels(renderView(renderer, scene, none).image), 0);
 }
 
 }  // namespace
