@@ -1,15 +1,22 @@
 // The `backprojection` view (viz/view_backprojection.cpp) on ssm-contour and ssm-gbp06: the visible
 // fraction it prints equals the technique's visibility at the pixel, its export loads back with one
-// cell per edge or sample, the hsm view marks the kernel steps `render --pixel` records, and
-// techniques without the record are refused.
+// cell per edge or sample (and one for the initial area), each cell's polygon has the area the
+// record gives it and the cells add up to the occluded area; the hsm view (viz/view_hsm.cpp) marks
+// the kernel steps `render --pixel` records, labels every level and draws the kernel in the colour
+// its title names; techniques without the record are refused.
 #include <gtest/gtest.h>
 
+#include <vtkActor.h>
+#include <vtkCell.h>
 #include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkNew.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -19,6 +26,7 @@
 #include "scene/scene.h"
 #include "support/cli_run.h"
 #include "support/gl_fixture.h"
+#include "view_common.h"
 #include "views.h"
 
 namespace shadowlab {
@@ -81,7 +89,11 @@ TEST_F(BackprojectionView, VisibleFractionEqualsTheImageAndExportLoadsBack) {
             vtkNew<vtkXMLPolyDataReader> reader;
             reader->SetFileName(request.exportPath.c_str());
             reader->Update();
-            EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(), r.data["count"].get<vtkIdType>()) << technique;
+            // One cell per edge or sample, and one for the initial area (the centre occluded).
+            EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(),
+                      r.data["count"].get<vtkIdType>() + (r.data["initial_area"].get<double>() > 0.0 ? 1 : 0))
+                << technique;
+            EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(), r.data["cells"].get<vtkIdType>()) << technique;
             EXPECT_NE(reader->GetOutput()->GetCellData()->GetArray("signed_area"), nullptr);
             ++checked;
             if (r.data["count"].get<int>() > 0) ++withItems;
@@ -89,6 +101,87 @@ TEST_F(BackprojectionView, VisibleFractionEqualsTheImageAndExportLoadsBack) {
     }
     EXPECT_GE(checked, 10);
     EXPECT_GE(withItems, 2);  // some pixels are in the penumbra: edges / samples drawn
+}
+
+// Issue 19: the view draws exactly what it counts. For every picked penumbra pixel, each exported
+// cell's polygon (shoelace over its points, signed by its orientation) has the record's area
+// (`signed_area`: an edge's signed area, a sample's clipped quad area, the initial area), and the
+// cells add up to the occluded area the caption prints. Tolerance 1e-4: the square's cells are
+// exact up to float rounding, the disk's border is cut into chords of 2 pi / 2048 (at most 5e-6 off
+// for the whole disk). Scenes with penumbrae under a square light (square-occluder,
+// overlapping-occluders, plant) and a sphere light (sphere-light: the record's unit disk).
+TEST_F(BackprojectionView, CellsHaveTheAreasTheRecordAddsUp) {
+    double maxCellError = 0.0, maxSumError = 0.0, maxRasterError = 0.0;
+    int cases = 0, diskCases = 0, withInitial = 0, withNegative = 0;
+    for (const std::string name : {"square-occluder", "overlapping-occluders", "plant", "sphere-light"}) {
+        Scene scene = loadScene(name);
+        for (const std::string technique : {"ssm-gbp06", "ssm-contour"}) {
+            SCOPED_TRACE(name + " " + technique);
+            Renderer renderer(scene, options(technique, 96, 96, "512"));
+            renderer.renderFrame(0, {"visibility"});
+            const Image vis = renderer.visibility();
+            // Penumbra pixels (0.05 < v < 0.95) in scan order; five spread evenly over them.
+            std::vector<glm::ivec2> penumbra;
+            for (int y = 0; y < vis.height; ++y)
+                for (int x = 0; x < vis.width; ++x)
+                    if (renderer.ids().at(x, y) >= 0.0f && vis.at(x, y) > 0.05f && vis.at(x, y) < 0.95f)
+                        penumbra.push_back({x, y});
+            ASSERT_GE(penumbra.size(), 5u);
+            for (int k = 0; k < 5; ++k) {
+                const glm::ivec2 p = penumbra[size_t((k + 0.5) * double(penumbra.size()) / 5.0)];
+                SCOPED_TRACE("pixel " + std::to_string(p.x) + "," + std::to_string(p.y));
+                ViewRequest request = viewRequest("backprojection", p);
+                request.exportPath = test::testPath("viz", "bp-cells-" + name + "-" + technique + "-" + std::to_string(k) + ".vtp");
+                ViewResult r = renderView(renderer, scene, request);
+                vtkNew<vtkXMLPolyDataReader> reader;
+                reader->SetFileName(request.exportPath.c_str());
+                reader->Update();
+                vtkPolyData* poly = reader->GetOutput();
+                vtkDataArray* areas = poly->GetCellData()->GetArray("signed_area");
+                vtkDataArray* kinds = poly->GetCellData()->GetArray("kind");
+                ASSERT_NE(areas, nullptr);
+                ASSERT_NE(kinds, nullptr);
+                ASSERT_EQ(poly->GetNumberOfCells(), r.data["cells"].get<vtkIdType>());
+                double sum = 0.0;
+                for (vtkIdType c = 0; c < poly->GetNumberOfCells(); ++c) {
+                    vtkCell* cell = poly->GetCell(c);
+                    double twice = 0.0;
+                    for (vtkIdType i = 0, n = cell->GetNumberOfPoints(); i < n; ++i) {
+                        double a[3], b[3];
+                        cell->GetPoints()->GetPoint(i, a);
+                        cell->GetPoints()->GetPoint((i + 1) % n, b);
+                        twice += a[0] * b[1] - a[1] * b[0];
+                    }
+                    const double area = 0.5 * twice, recorded = areas->GetTuple1(c);
+                    const int kind = int(kinds->GetTuple1(c));
+                    // Samples' quads are counter-clockwise, so their signed area is their area.
+                    EXPECT_NEAR(area, recorded, 1e-4) << "cell " << c << " kind " << kind;
+                    EXPECT_EQ(kind, technique == "ssm-contour" ? (c == 0 && r.data["initial_area"].get<double>() > 0.0 ? 0 : 1)
+                                                                 : (c == 0 && r.data["initial_area"].get<double>() > 0.0 ? 0 : 2));
+                    maxCellError = std::max(maxCellError, std::abs(area - recorded));
+                    if (kind == 0) ++withInitial;
+                    if (recorded < 0.0) ++withNegative;
+                    sum += area;
+                }
+                const double occluded = r.data["occluded_area"].get<double>();
+                EXPECT_NEAR(sum, occluded, 1e-4);
+                EXPECT_NE(r.caption.find("occluded " + formatNumber(occluded, 5)), std::string::npos) << r.caption;
+                maxSumError = std::max(maxSumError, std::abs(sum - occluded));
+                // The right panel's net count, integrated over its 256^2 texels, is the same sum
+                // (texel-centre sampling of every cell's border; 0.011 measured).
+                EXPECT_NEAR(r.data["coverage_area"].get<double>(), occluded, 0.04);
+                maxRasterError = std::max(maxRasterError, std::abs(r.data["coverage_area"].get<double>() - occluded));
+                if (r.data["light_shape"] == "disk") ++diskCases;
+                ++cases;
+            }
+        }
+    }
+    EXPECT_EQ(cases, 40);
+    EXPECT_EQ(diskCases, 10);  // sphere-light, both techniques
+    EXPECT_GE(withNegative, 1);  // contour edges that uncover light were drawn
+    std::printf("backprojection cells: max |polygon area - record| %.3g, max |sum of cells - occluded| %.3g, max "
+                "|net count raster - occluded| %.3g; %d initial cells, %d negative cells\n",
+                maxCellError, maxSumError, maxRasterError, withInitial, withNegative);
 }
 
 // The per-pixel record of the back-projection techniques has its own "light_geometry" (shape,
@@ -183,6 +276,71 @@ TEST_F(BackprojectionView, HsmCropsToTheCasters) {
     EXPECT_LT(side, 0.6 * 512) << crop.dump();
     EXPECT_NEAR(crop[3].get<double>() - crop[1].get<double>(), side, 1e-9);  // square, as the levels are
     EXPECT_NE(r.caption.find("shown (the casters)"), std::string::npos) << r.caption;
+}
+
+// Issue 19: the hsm view draws what its title promises. Every level is a tile labelled with its
+// number and texel size in level-0 texels; the converged kernel is drawn in the colour the title
+// names (cyan), which appears in the picture with a picked pixel and nowhere without one (the depth
+// map's colours never reach it); each step's number is a label on its level.
+TEST_F(BackprojectionView, HsmLabelsEveryLevelAndDrawsTheKernelInTheTitlesColour) {
+    Scene scene = loadScene("plant");
+    Renderer renderer(scene, options("ssm-contour", 160, 120, "512"));
+    auto cyanPixels = [](const Image& image) {
+        int n = 0;
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x)
+                if (image.at(x, y, 0) < 0.4f && image.at(x, y, 1) > 0.85f && image.at(x, y, 2) > 0.85f) ++n;
+        return n;
+    };
+    // A penumbra pixel (0.05 < v < 0.95), the middle one in scan order: its kernel refines.
+    renderer.renderFrame(0, {"visibility"});
+    const Image vis = renderer.visibility();
+    std::vector<glm::ivec2> penumbra;
+    for (int y = 0; y < vis.height; ++y)
+        for (int x = 0; x < vis.width; ++x)
+            if (renderer.ids().at(x, y) >= 0.0f && vis.at(x, y) > 0.05f && vis.at(x, y) < 0.95f) penumbra.push_back({x, y});
+    ASSERT_FALSE(penumbra.empty());
+    ViewRequest request = viewRequest("hsm", penumbra[penumbra.size() / 2]);
+    request.width = 800;
+    request.height = 600;
+    ViewResult r = renderView(renderer, scene, request);
+    EXPECT_NE(r.data["title"].get<std::string>().find("kernel (cyan)"), std::string::npos) << r.data["title"];
+    EXPECT_EQ(r.data["kernel_colour"], nlohmann::json({0.2f, 1.0f, 1.0f}));
+    ASSERT_TRUE(r.data.contains("kernel_range")) << r.data.dump();
+    EXPECT_NE(r.caption.find("(penumbra)"), std::string::npos) << r.caption;
+    const int cyan = cyanPixels(r.image);
+    EXPECT_GE(cyan, 40) << "the kernel's outline, on every level's two tiles";
+    const int levels = r.data["levels"].get<int>();
+    EXPECT_EQ(levels, 9);  // 256x256 .. 1x1 over a 512x512 map
+    ASSERT_EQ(r.data["levels_drawn"].size(), size_t(levels));
+    for (int k = 1; k <= levels; ++k) {
+        const auto& drawn = r.data["levels_drawn"][size_t(k - 1)];
+        const std::string n = std::to_string(1 << k);
+        EXPECT_EQ(drawn["level"].get<int>(), k);
+        EXPECT_EQ(drawn["texel_size"].get<int>(), 1 << k);
+        EXPECT_EQ(drawn["label"].get<std::string>(), "level " + std::to_string(k) + ", " + n + "x" + n + " texels");
+        // As drawn: the full label, or where the band above the tile is too small for it at the text
+        // standard's size, a shorter form that still names the level and its texel size.
+        const std::string text = drawn["text"].get<std::string>(), lk = "L" + std::to_string(k);
+        EXPECT_TRUE(text == "level " + std::to_string(k) + ",\n" + n + "x" + n + " texels" || text == lk + " " + n + "x" + n ||
+                    text == lk + "\n" + n + "x" + n || text == lk + "\n" + n)
+            << text;
+        EXPECT_NE(r.caption.find("'Lk N' is level k, texels of N x N"), std::string::npos) << r.caption;
+    }
+    // Every step is numbered once, on the level it read.
+    const auto& steps = r.data["steps"];
+    ASSERT_GE(steps.size(), 1u);
+    std::string numbered;
+    for (const auto& label : r.data["step_labels"]) {
+        numbered += label["text"].get<std::string>() + ", ";
+        EXPECT_EQ(label["drawn_on_level"].get<int>(), std::max(1, label["level"].get<int>()));
+    }
+    for (size_t i = 0; i < steps.size(); ++i)
+        EXPECT_NE(numbered.find(std::to_string(i + 1)), std::string::npos) << numbered;
+    // No picked pixel: no kernel, no cyan.
+    ViewRequest none = request;
+    none.pixel.reset();
+    EXPECT_EQ(cyanPixels(renderView(renderer, scene, none).image), 0);
 }
 
 }  // namespace
