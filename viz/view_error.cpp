@@ -72,9 +72,13 @@ void build(ViewContext& ctx, ViewResult& result) {
 
     Image errors(visibility.width, visibility.height, 4);
     float maxAbs = 0.0f;
+    // The pictures show no data (the background grey) where the pixel sees no geometry, so the sky is
+    // never mistaken for zero error; the caption's metrics are compare's, over every pixel.
+    const Image ids = ctx.renderer.ids();
     for (size_t i = 0; i < visibility.pixelCount(); ++i) {
         float v = visibility.data[i], r = reference->data[i];
-        float e = std::isfinite(v) && std::isfinite(r) ? v - r : NAN;
+        const bool geometry = ids.pixelCount() != visibility.pixelCount() || ids.data[i] >= 0.0f;
+        float e = std::isfinite(v) && std::isfinite(r) && geometry ? v - r : NAN;
         errors.data[i * 4 + 0] = e;
         errors.data[i * 4 + 1] = std::abs(e);
         errors.data[i * 4 + 2] = v;

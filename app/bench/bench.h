@@ -84,6 +84,7 @@ struct Measurement {
     std::string referenceDesc;  // "raytraced rays=256"
     Image visibility;  // the render's visibility buffer
     Image image;       // the shaded image (sRGB)
+    Image ids;         // object ids per pixel, -1 on background (no geometry)
 };
 
 // Renders `setting` on `scene` with every pass timed every frame (no reuse): `warmup` frames, then

@@ -252,7 +252,13 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
             cell.m.referenceKey = ref.key;
             cell.m.referenceDesc = spec.reference.describe();
             cell.picture = figure::downsample(spec.show == "image" ? cell.m.image : cell.m.visibility, s);
-            cell.error = figure::downsample(figure::absoluteError(cell.m.visibility, ref.visibility), s);
+            // The error map: no data (NaN, shown grey) where the pixel sees no geometry, so the background
+            // is never mistaken for zero error.
+            Image error = figure::absoluteError(cell.m.visibility, ref.visibility);
+            if (cell.m.ids.pixelCount() == error.pixelCount())
+                for (size_t i = 0; i < error.pixelCount(); ++i)
+                    if (cell.m.ids.data[i] < 0.0f) error.data[i] = NAN;
+            cell.error = figure::downsample(error, s);
             cell.labelShadowMs = cell.m.shadowMs;
             if (autoMax)
                 for (float e : cell.error.data)

@@ -226,6 +226,7 @@ Measurement measureSetting(const Scene& scene, const std::string& sceneName, int
         }
     m.visibility = renderer.visibility();
     m.image = renderer.image();
+    m.ids = renderer.ids();
     if (reference && reference->width > 0) {
         m.all = computeMetrics(m.visibility, *reference);
         std::vector<uint8_t> mask = penumbraMask(*reference);

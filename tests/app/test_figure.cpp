@@ -110,6 +110,9 @@ TEST(Figure, GridWithInsetsAndErrorMapsAndRemakeGivesTheSamePng) {
     EXPECT_GT(count(255, 199, 0, 2), 100);  // first inset's outline: on 3 pictures and 3 zooms
     EXPECT_GT(count(0, 191, 255, 2), 100);  // second inset's outline
     EXPECT_GT(count(0, 0, 0, 2), 1000);  // error maps: inferno black where the error is 0
+    // The error maps' background (no geometry: the sky above the floor) is the documented grey, not
+    // inferno's black of zero error (viz/README.md "Text and colour").
+    EXPECT_GT(count(128, 128, 128, 1), 6 * 64) << "no grey background in the error maps";
     stbi_image_free(png);
 
     // --remake: the same picture, byte for byte (labels keep the recorded times).
