@@ -107,6 +107,13 @@ public:
         // What readTaskBuffers would otherwise complete at once (a pause of seconds): the shown
         // progressive source, and the progressive reference the task reads, for the current state.
         const glm::ivec2 size = w_.renderSize();
+        // The technique's own frame first: refined in the frame budget, complete, it is read as it
+        // is (readTaskBuffers renders nothing then; a synchronous frame of ssm-gbp06 under a wide
+        // light is a pause of seconds).
+        if (!frameComplete()) {
+            waiting = "the technique's frame";
+            return false;
+        }
         auto pending = [&](ProgressiveSource& s, const char* what) {
             if (&s == &w_.raytrace_)
                 w_.raytrace_.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
@@ -134,7 +141,8 @@ public:
         std::set<std::string> requested = {"image", "visibility"};
         if (!reads.internals.empty())
             for (const std::string& name : r.internalRequests(false)) requested.insert(name);
-        r.renderFrame(w_.frameIndex_, requested);
+        // The refined frame complete: its outputs are renderFrame's (Renderer::refineFrame).
+        if (!frameComplete() || !reads.internals.empty()) r.renderFrame(w_.frameIndex_, requested);
         TaskBuffers b;
         b.visibility = r.visibility();
         b.ids = r.ids();
@@ -200,6 +208,13 @@ public:
     unsigned long long shownVersion() const override { return w_.version_; }
 
 private:
+    // The technique's frame of what is shown now is complete (refined to the end, not a preview).
+    bool frameComplete() const {
+        const glm::ivec2 size = w_.renderSize();
+        const Renderer& r = *w_.renderer_;
+        return w_.imageComplete_ && !w_.reduced_ && w_.refineVersion_ == w_.version_ && w_.refineSize_ == size &&
+               r.width() == size.x && r.height() == size.y;
+    }
     Window& w_;
     std::unique_ptr<RendererLessonHost> variant_;
     std::optional<LessonState> variantState_;

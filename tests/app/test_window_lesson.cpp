@@ -103,7 +103,7 @@ void checkBackprojectionStep3(bool waitFirst) {
         r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     }
     ASSERT_EQ(r.code, 0) << r.output;
-    const std::string key = "lesson: step 3: passed: mean(error in penumbra) < 0.058: ";
+    const std::string key = "lesson: step 3: passed: mean(error in penumbra) < 0.05: ";
     const size_t at = r.output.find(key);
     ASSERT_NE(at, std::string::npos) << r.output;
     const double window = std::stod(r.output.substr(at + key.size()));
