@@ -255,7 +255,8 @@ nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& dir
             for (double v : r.outcome.values) values.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
             js["expects"].push_back({{"line", expect.where.line}, {"expect", expect.condition.text()}, {"passed", r.passed},
                                      {"values", values}, {"message", r.message}});
-            h.expects.push_back({expect.condition.text(), r.message, r.passed});
+            h.expects.push_back({expect.condition.text(), r.outcome.values.empty() ? r.message : expect.condition.measured(r.outcome),
+                                 r.passed});
             if (!r.passed)
                 failures.push_back(expect.where.str() + " at " + size + ": expect " + expect.condition.text() + ": " + r.failure);
         }

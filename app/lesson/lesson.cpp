@@ -925,17 +925,21 @@ TaskCondition::Outcome TaskCondition::evaluate(const TaskBuffers& b, const std::
     return out;
 }
 
-std::string TaskCondition::failures(const Outcome& o) const {
+std::string TaskCondition::failures(const Outcome& o) const { return termValues(o, true); }
+std::string TaskCondition::measured(const Outcome& o) const { return termValues(o, false); }
+
+std::string TaskCondition::termValues(const Outcome& o, bool failingOnly) const {
     std::string out;
     for (size_t k = 0; k < terms_.size() && k < o.values.size(); ++k) {
-        if (o.termPassed[k]) continue;
+        if (failingOnly && o.termPassed[k]) continue;
         std::string value;
         if (!o.problems[k].empty()) {
             value = o.problems[k];  // "no pixel in the mask", "internal ... was not written"
         } else {
             value = shortNumber(o.values[k]);
-            if (terms_[k].rhs) value += " (needs " + terms_[k].op + " " + shortNumber(o.needs[k]) + ")";
+            if (terms_[k].rhs || !failingOnly) value += " (needs " + terms_[k].op + " " + shortNumber(o.needs[k]) + ")";
         }
+        // One term: its value alone (the condition is printed beside it); several: each named.
         out += (out.empty() ? "" : "; ") + (terms_.size() == 1 ? value : terms_[k].text + ": " + value);
     }
     return out;

@@ -156,6 +156,8 @@ public:
     bool readsReference() const;   // the step's render or any variant's
     // The term texts that failed in `o`, each with its value: "mean(visibility) > 0.3: 0.21".
     std::string failures(const Outcome& o) const;
+    // Every term's value and what it needed: "0.21 (needs > 0.3)"; several terms each named.
+    std::string measured(const Outcome& o) const;
 
     struct Buffer {
         std::string name;              // visibility, reference, error, internal
@@ -185,6 +187,7 @@ private:
         double value = 0.0;
         std::string text;
     };
+    std::string termValues(const Outcome& o, bool failingOnly) const;
     double statistic(const Stat& s, const TaskBuffers& step, const std::vector<TaskBuffers>& variants,
                      std::string& problem) const;
     std::string text_;
