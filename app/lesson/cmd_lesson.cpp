@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <unistd.h>
 
 #include "cli/cli.h"
 #include "error.h"
@@ -69,9 +68,9 @@ int commandLesson(const std::vector<std::string>& args) {
         std::printf("%s: %s: %zu steps, %zu tasks, valid\n", lesson.file.c_str(), lesson.title.c_str(),
                     lesson.steps.size(), tasks);
         if (!opts.has("--sizes")) return 0;
-        // Checked where it is shown: every step rendered at each size, every task failing in its
-        // own state and passing with its answer, every pick on its point (a lesson error names the
-        // line and the size). Nothing is kept.
+        // Checked where it is shown: every step rendered at each size, every expectation holding,
+        // every task failing in its own state and passing with its answer, every pick on its point
+        // (a lesson error names the line and the size). Nothing is written.
         std::vector<std::pair<int, int>> sizes;
         const std::string list = opts.get("--sizes");
         size_t start = 0;
@@ -85,20 +84,20 @@ int commandLesson(const std::vector<std::string>& args) {
             start = comma + 1;
         }
         auto context = createHeadlessContext(parseBackend(opts.get("--gl", "egl")));
+        size_t expects = 0;
+        for (const LessonStep& s : lesson.steps) expects += s.expects.size();
         for (const auto& [w, h] : sizes) {
-            const fs::path scratch = fs::temp_directory_path() / ("shadowlab-lesson-check-" + std::to_string(::getpid()));
-            fs::remove_all(scratch);
-            fs::create_directories(scratch);
             try {
-                renderLessonHeadless(lesson, scratch.string(), w, h);
+                renderLessonHeadless(lesson, "", w, h);  // renders and checks, writes nothing
+            } catch (const LessonCheckError&) {
+                throw;  // each failing expectation already names its line and the size
             } catch (const InputError& e) {
-                fs::remove_all(scratch);
                 throw InputError(std::string(e.what()) + " (at " + std::to_string(w) + "x" + std::to_string(h) + ")");
             }
-            fs::remove_all(scratch);
-            std::printf("  %dx%d: %zu steps rendered, %zu task(s) failing in their own state and passing with their "
-                        "answer, picks on their points\n",
-                        w, h, lesson.steps.size(), tasks);
+            std::printf("  %dx%d: %zu steps rendered, %zu expectation(s) holding, %zu task(s) failing in their own state "
+                        "and passing with their answer, picks on their points\n",
+                        w, h, lesson.steps.size(), expects, tasks);
+            std::fflush(stdout);
         }
         return 0;
     }

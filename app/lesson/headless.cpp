@@ -7,6 +7,7 @@
 
 #include "error.h"
 #include "lesson/html.h"
+#include "graph/internals.h"
 #include "lesson/player.h"
 
 namespace fs = std::filesystem;
@@ -106,7 +107,7 @@ void RendererLessonHost::render(Renderer& renderer, const std::set<std::string>&
     renderer.renderFrame(0, requested);
 }
 
-RendererLessonHost::Slot& RendererLessonHost::ensure(Slot& slot) {
+RendererLessonHost::Slot& RendererLessonHost::ensure(Slot& slot, bool internals) {
     if (!scene_) throw InternalError("lesson host: no scene");
     if (!slot.renderer) {
         RenderOptions options;
@@ -122,6 +123,8 @@ RendererLessonHost::Slot& RendererLessonHost::ensure(Slot& slot) {
     if (&slot == &main_ && views_.count("shadow-map-texels"))
         for (const std::string& r : slot.renderer->internalRequests(false))
             if (r.find("/shadow_map") != std::string::npos) requested.insert(r);
+    if (internals)
+        for (const std::string& r : slot.renderer->internalRequests(false)) requested.insert(r);
     render(*slot.renderer, requested);
     return slot;
 }
@@ -132,13 +135,53 @@ Renderer& RendererLessonHost::splitRenderer() {
     return split_.empty() || split_ == "reference" ? reference() : *ensure(split_slot_).renderer;
 }
 
-TaskBuffers RendererLessonHost::readTaskBuffers(bool withReference) {
+TaskBuffers RendererLessonHost::readTaskBuffers(const TaskReads& reads) {
     TaskBuffers b;
-    Renderer& t = technique();
+    Renderer& t = *ensure(main_, !reads.internals.empty()).renderer;
     b.visibility = t.visibility();
     b.ids = t.ids();
-    if (withReference) b.reference = reference().visibility();
+    if (!reads.internals.empty()) b.internals = collectInternals(t, reads.internals);
+    if (reads.positions) b.positions = t.positions();
+    b.pick = pickedPixel();
+    if (reads.reference) b.reference = reference().visibility();
     return b;
+}
+
+TaskBuffers RendererLessonHost::readVariantBuffers(const LessonState& variant, const TaskReads& reads) {
+    // A host of its own at this size: its renderers are kept from one variant to the next (a scene
+    // loads once), and what this host shows is untouched.
+    if (!variant_) variant_ = std::make_unique<RendererLessonHost>(width_, height_);
+    // The same variant again (another expectation of the step): its renderers are as they were,
+    // and reuse the passes they ran.
+    if (!variantState_ || *variantState_ != variant) applyLessonState(*variant_, variant);
+    variantState_ = variant;
+    return variant_->readTaskBuffers(reads);
+}
+
+namespace {
+
+// The image internals a condition names, kept in memory as they are handed over (as viz/'s
+// InternalCollector keeps every kind for the views): keyed by the light's prefix and the name.
+class ConditionInternals : public InternalSink {
+public:
+    explicit ConditionInternals(const std::set<std::string>& names) : names_(names) {}
+    void image(const std::string& name, const Image& image, const std::string&, const std::string&, int level) override {
+        if (level <= 0 && names_.count(prefix_ + name)) images[prefix_ + name] = image;
+    }
+    void mesh(const std::string&, const MeshData&, const std::string&, const std::string&) override {}
+    void json(const std::string&, const nlohmann::json&, const std::string&, const std::string&) override {}
+    std::map<std::string, Image> images;
+
+private:
+    const std::set<std::string>& names_;
+};
+
+}  // namespace
+
+std::map<std::string, Image> collectInternals(Renderer& renderer, const std::set<std::string>& names) {
+    ConditionInternals sink(names);
+    renderer.writeInternals(sink, std::nullopt);
+    return sink.images;
 }
 
 // ---- the headless runner --------------------------------------------------------------------------------
@@ -182,15 +225,19 @@ nlohmann::json outcomeJson(const TaskCondition::Outcome& o) {
 }  // namespace
 
 nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& directory, int width, int height) {
+    const bool writing = !directory.empty();
     OutputSet outputs;
-    auto png = [&](const std::string& name, const Image& image) {
-        writePNG(outputs.stage((fs::path(directory) / name).string()), image);
+    auto png = [&](const std::string& name, const std::string& label, const Image& image) {
+        if (writing) writePNG(outputs.stage((fs::path(directory) / name).string()), image);
+        return HandoutPicture{name, label, image.width, image.height};
     };
     RendererLessonHost host(width, height);
     LessonPlayer player(lesson, host);
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
     nlohmann::json summary{{"lesson", lesson.id}, {"title", lesson.title}, {"file", lesson.file},
                            {"size", {width, height}}, {"steps", nlohmann::json::array()}};
     std::vector<HandoutStep> handout;
+    std::vector<std::string> failures;  // every failing expectation of the lesson, reported together
     for (size_t k = 0; k < lesson.steps.size(); ++k) {
         player.goTo(k);
         const LessonStep& step = lesson.steps[k];
@@ -198,15 +245,27 @@ nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& dir
         h.title = step.title;
         h.narration = step.narration;
         nlohmann::json js{{"title", step.title}, {"line", step.where.line}, {"state", step.state.describe()}};
-        h.image = stepFile(k, "");
-        png(h.image, renderLessonView(host, "technique"));
-        h.caption = step.state.technique + (step.state.split.empty() ? "" : " | " + step.state.split);
-        js["images"] = {h.image};
+        // The claims first, on the step's own state (the pictures below render the same state).
+        player.checkExpects();
+        js["expects"] = nlohmann::json::array();
+        for (size_t e = 0; e < step.expects.size(); ++e) {
+            const LessonExpect& expect = step.expects[e];
+            const LessonPlayer::ExpectResult& r = player.expectResults().at(e);
+            nlohmann::json values = nlohmann::json::array();
+            for (double v : r.outcome.values) values.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
+            js["expects"].push_back({{"line", expect.where.line}, {"expect", expect.condition.text()}, {"passed", r.passed},
+                                     {"values", values}, {"message", r.message}});
+            h.expects.push_back({expect.condition.text(), r.outcome.values.empty() ? r.message : expect.condition.measured(r.outcome),
+                                 r.passed});
+            if (!r.passed)
+                failures.push_back(expect.where.str() + " at " + size + ": expect " + expect.condition.text() + ": " + r.failure);
+        }
+        h.picture = png(stepFile(k, ""), step.state.technique + (step.state.split.empty() ? "" : " | " + step.state.split),
+                        renderLessonView(host, "technique"));
+        js["images"] = {h.picture.file};
         for (const std::string& view : step.state.views) {
-            std::string file = stepFile(k, "-" + view);
-            png(file, renderLessonView(host, view));
-            h.views.push_back({view, file});
-            js["images"].push_back(file);
+            h.views.push_back(png(stepFile(k, "-" + view), view, renderLessonView(host, view)));
+            js["images"].push_back(h.views.back().file);
         }
         if (auto p = host.pickedPixel()) {
             checkPickVisible(host, *p);
@@ -226,19 +285,17 @@ nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& dir
             for (int f = 0; f < 3; ++f) {
                 double fraction = f * 0.5;
                 applyLessonState(host, animatedState(step, fraction));
-                std::string file = stepFile(k, "-anim-" + std::to_string(f));
-                png(file, renderLessonView(host, "technique"));
-                h.animation.push_back({a.target + " = " + animatedValueText(step, fraction), file});
-                js["images"].push_back(file);
+                h.animation.push_back(png(stepFile(k, "-anim-" + std::to_string(f)), a.target + " = " + animatedValueText(step, fraction),
+                                          renderLessonView(host, "technique")));
+                js["images"].push_back(h.animation.back().file);
             }
             player.restore();
         }
         if (step.task) {
             const LessonTask& task = *step.task;
-            bool ref = task.check.readsReference();
-            TaskCondition::Outcome own = task.check.evaluate(host.readTaskBuffers(ref));
+            TaskCondition::Outcome own = evaluateOnHost(task.check, host);
             player.showMe();
-            TaskCondition::Outcome answer = task.check.evaluate(host.readTaskBuffers(ref));
+            TaskCondition::Outcome answer = evaluateOnHost(task.check, host);
             if (own.passed)
                 throw InputError(task.where.str() + ": the task is already solved in the step's own state (" +
                                  own.message + "); the student would have nothing to do");
@@ -248,23 +305,28 @@ nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& dir
             h.check = task.check.text();
             h.ownOutcome = own.message;
             h.answerOutcome = answer.message;
-            h.answerImage = stepFile(k, "-answer");
             h.answerCommands = "";
             for (const LessonCommand& c : task.answer) {
                 std::string line = c.name;
                 for (const std::string& a : c.args) line += " " + a;
                 h.answerCommands += line + "\n";
             }
-            png(h.answerImage, renderLessonView(host, "technique"));
+            h.answer = png(stepFile(k, "-answer"), "the answer's state", renderLessonView(host, "technique"));
             js["task"] = {{"prompt", task.prompt}, {"check", task.check.text()}, {"line", task.where.line},
-                          {"own", outcomeJson(own)}, {"answer", outcomeJson(answer)}, {"image", h.answerImage}};
+                          {"own", outcomeJson(own)}, {"answer", outcomeJson(answer)}, {"image", h.answer.file}};
             player.restore();
         }
         summary["steps"].push_back(js);
         handout.push_back(h);
     }
+    if (!failures.empty()) {
+        std::string message;
+        for (const std::string& f : failures) message += (message.empty() ? "" : "\n") + f;
+        throw LessonCheckError(message);
+    }
+    if (!writing) return summary;
     std::ofstream html(outputs.stage((fs::path(directory) / "index.html").string()), std::ios::binary);
-    html << lessonHandoutHtml(lesson, handout, width, height);
+    html << lessonHandoutHtml(lesson, handout);
     html.close();
     std::ofstream json(outputs.stage((fs::path(directory) / "lesson.json").string()), std::ios::binary);
     json << summary.dump(2) << "\n";

@@ -10,6 +10,7 @@
 
 #include "graph/renderer.h"
 #include "image/image.h"
+#include "error.h"
 #include "lesson/host.h"
 
 namespace shadowlab {
@@ -30,7 +31,8 @@ public:
     void showView(const std::string& view, bool shown) override;
     void pickPixel(const std::optional<LessonPick>& pick) override;
     void setSplit(const std::string& against) override;
-    TaskBuffers readTaskBuffers(bool withReference) override;
+    TaskBuffers readTaskBuffers(const TaskReads& reads) override;
+    TaskBuffers readVariantBuffers(const LessonState& variant, const TaskReads& reads) override;
 
     // ---- what the runner and the views read
     Renderer& technique();            // rendered (frame 0, time 0) on return
@@ -54,7 +56,9 @@ private:
         std::vector<std::pair<std::string, std::string>> params;
         bool dirty = true;
     };
-    Slot& ensure(Slot& slot);  // creates (with every light and the camera) and renders
+    // Creates (with every light and the camera) and renders; with `internals`, every internal the
+    // technique can expose is rendered too (Renderer::internalRequests).
+    Slot& ensure(Slot& slot, bool internals = false);
     void render(Renderer& renderer, const std::set<std::string>& requested);
     int width_, height_;
     std::unique_ptr<Scene> scene_;
@@ -65,15 +69,31 @@ private:
     std::set<std::string> views_;
     std::optional<LessonPick> pick_;
     std::string split_;
+    std::unique_ptr<RendererLessonHost> variant_;  // renders an expectation's variants
+    std::optional<LessonState> variantState_;      // the variant it shows
 };
+
+// The internals named (the keys of Renderer::writeInternals: "kernel_size", "light1/kernel_size")
+// of the renderer's last frame, which must have requested them; a pyramid's level 0. An internal
+// not written is absent.
+std::map<std::string, Image> collectInternals(Renderer& renderer, const std::set<std::string>& names);
 
 // The images of one view of the host's current state (app/lesson/step_views.cpp): "technique" (the
 // shaded image, with the split and the picked pixel), or one of lessonViews().
 Image renderLessonView(RendererLessonHost& host, const std::string& view);
 
+// Every failing expectation of a lesson at one size, one per line:
+// "lessons/intro.md:42 at 320x320: expect mean(visibility in penumbra) > 0.3: 0.21".
+class LessonCheckError : public InputError {
+public:
+    using InputError::InputError;
+};
+
 // Renders every step of `lesson` into `directory` (PNGs, index.html, lesson.json with each step's
-// state and task outcomes); checks each task both ways (the step's state must not pass it, the
-// show-me state must), else an InputError naming the task's line. All-or-nothing outputs.
+// state, its expectations and task outcomes), or, with `directory` empty, renders and checks
+// without writing anything. Checks each task both ways (the step's state must not pass it, the
+// show-me state must), else an InputError naming the task's line, and every expectation of every
+// step, else a LessonCheckError listing the failing ones. All-or-nothing outputs.
 nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& directory, int width, int height);
 
 }  // namespace shadowlab

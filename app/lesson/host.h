@@ -36,13 +36,21 @@ public:
     virtual void pickPixel(const std::optional<LessonPick>& pick) = 0;
     // Left half the technique, right half `against` ("reference" or a technique id); "" = no split.
     virtual void setSplit(const std::string& against) = 0;
-    // Renders what the task reads and returns it (visibility, reference when `withReference`, ids).
-    virtual TaskBuffers readTaskBuffers(bool withReference) = 0;
+    // Renders the shown state and returns what a condition reads of it (TaskReads: the reference,
+    // internals by the names Renderer::writeInternals gives them; the visibility and the ids always).
+    virtual TaskBuffers readTaskBuffers(const TaskReads& reads) = 0;
+    // The same of `variant` (the step with an expectation's changes, TaskVariant), rendered aside:
+    // what the host shows does not change.
+    virtual TaskBuffers readVariantBuffers(const LessonState& variant, const TaskReads& reads) = 0;
     // Whether readTaskBuffers can answer now without waiting: false while what the task reads is
     // still accumulating (the window's progressive references), `waiting` then says what ("the
     // reference: 40 of 128 samples"); the player marks the check pending and the host calls
     // LessonPlayer::finishCheck once it is ready. The headless host is always ready.
     virtual bool taskBuffersReady(bool /*withReference*/, std::string& /*waiting*/) { return true; }
+    // A number that changes whenever what the host shows changes (the window's state version), so
+    // the player knows whether the step it applied is still what is shown; 0 if the host never
+    // changes by itself.
+    virtual unsigned long long shownVersion() const { return 0; }
 };
 
 // Applies the complete state to a host: scene, technique, every parameter, every light, the

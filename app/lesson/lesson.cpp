@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "error.h"
+#include "lesson/html.h"
 #include "views.h"
 
 namespace fs = std::filesystem;
@@ -88,7 +89,7 @@ std::vector<std::string> splitWords(const std::string& line, const SourceLocatio
 
 const std::vector<std::string> kStateCommands = {"scene", "technique", "set",  "light", "camera",
                                                  "show",  "hide",      "pick", "split", "reference"};
-const std::vector<std::string> kStepCommands = {"animate", "try", "check", "answer"};
+const std::vector<std::string> kStepCommands = {"animate", "try", "check", "answer", "expect"};
 
 std::vector<std::string> allCommands() {
     std::vector<std::string> all = kStateCommands;
@@ -393,49 +394,63 @@ void applyLessonCommand(LessonState& state, const LessonCommand& c) {
     }
 }
 
-// ---- task conditions ----------------------------------------------------------------------------------
+// ---- conditions --------------------------------------------------------------------------------------
 namespace {
 
 struct CondToken {
     std::string text;
     bool number = false;
     double value = 0.0;
+    bool bracket = false;  // "[...]": a variant's changes, the text between the brackets
 };
 
-std::vector<CondToken> tokenizeCondition(const std::string& text, const SourceLocation& where) {
+std::vector<CondToken> tokenizeCondition(const std::string& text, const SourceLocation& where, const std::string& command) {
     std::vector<CondToken> out;
     size_t i = 0;
+    auto after = [&](const char* s) { return !out.empty() && out.back().text == s && !out.back().bracket; };
     while (i < text.size()) {
         char c = text[i];
         if (c == ' ' || c == '\t') {
             ++i;
-        } else if (c == '(' || c == ')' || c == '&') {
+        } else if (c == '(' || c == ')' || c == '&' || c == ',') {
             out.push_back({std::string(1, c)});
             ++i;
+        } else if (c == '[') {
+            size_t close = text.find(']', i);
+            if (close == std::string::npos)
+                throw InputError(where.str() + ": " + command + ": '[' without ']' in '" + text + "'");
+            CondToken t;
+            t.text = text.substr(i + 1, close - i - 1);
+            t.bracket = true;
+            out.push_back(t);
+            i = close + 1;
         } else if (c == '<' || c == '>' || c == '=' || c == '!') {
             std::string op(1, c);
             if (i + 1 < text.size() && text[i + 1] == '=') op += '=';
             if (op == "=" || op == "!" || op == "==" || op == "!=")
-                throw InputError(where.str() + ": check: comparisons are < <= > >=, got '" + op + "'");
+                throw InputError(where.str() + ": " + command + ": comparisons are < <= > >=, got '" + op + "'");
             out.push_back({op});
             i += op.size();
+        } else if ((c == '+' || c == '-') && (after(")") || i + 1 >= text.size() || text[i + 1] == ' ')) {
+            out.push_back({std::string(1, c)});  // the offset after a statistic: "mean(reference) - 0.02"
+            ++i;
         } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+') {
             char* end = nullptr;
             double v = std::strtod(text.c_str() + i, &end);
             size_t n = size_t(end - (text.c_str() + i));
             if (n == 0 || !std::isfinite(v))
-                throw InputError(where.str() + ": check: expected a number at '" + text.substr(i) + "'");
+                throw InputError(where.str() + ": " + command + ": expected a number at '" + text.substr(i) + "'");
             out.push_back({text.substr(i, n), true, v});
             i += n;
         } else if (std::isalpha(static_cast<unsigned char>(c))) {
             size_t j = i;
             while (j < text.size() && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_' ||
-                                       text[j] == ':' || text[j] == '-'))
+                                       text[j] == ':' || text[j] == '-' || text[j] == '.' || text[j] == '/'))
                 ++j;
             out.push_back({text.substr(i, j - i)});
             i = j;
         } else {
-            throw InputError(where.str() + ": check: unexpected character '" + std::string(1, c) + "' in '" + text + "'");
+            throw InputError(where.str() + ": " + command + ": unexpected character '" + std::string(1, c) + "' in '" + text + "'");
         }
     }
     return out;
@@ -446,6 +461,12 @@ bool compare(double a, const std::string& op, double b) {
     return op == "<" ? a < b : op == "<=" ? a <= b : op == ">" ? a > b : a >= b;
 }
 
+std::string shortNumber(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
 // Lit, umbra and penumbra come from the reference with a margin of 0.01 that absorbs the noise of
 // a finite number of light samples.
 constexpr float kLitThreshold = 0.99f;
@@ -453,131 +474,473 @@ constexpr float kUmbraThreshold = 0.01f;
 
 }  // namespace
 
-TaskCondition::TaskCondition(const std::string& text, const SourceLocation& where) : text_(text) {
+TaskCondition::TaskCondition(const std::string& text, const SourceLocation& where, const std::string& command,
+                             bool allowVariants)
+    : text_(text), where_(where), command_(command) {
     const std::string usage =
-        "expected STAT(BUFFER [in MASK & ...]) OP NUMBER joined by 'and', STAT one of min, max, mean, "
-        "fraction (fraction(BUFFER < T ...)), BUFFER one of visibility, reference, error, MASK one of all, lit, "
-        "umbra, penumbra, object:N";
-    std::vector<CondToken> t = tokenizeCondition(text, where);
+        "expected STAT(BUFFER [in MASK & ...]) OP NUMBER joined by 'and' (or OP STAT(...) [+|- NUMBER]), STAT one of "
+        "min, max, mean, fraction (fraction(BUFFER < T ...)), BUFFER one of visibility, reference, error, "
+        "internal:NAME[.CHANNEL] or diff(BUFFER, BUFFER), MASK one of all, lit, umbra, penumbra, object:N, pick, "
+        "near(X Y Z, R)";
+    std::vector<CondToken> t = tokenizeCondition(text, where, command);
     size_t i = 0;
     auto fail = [&](const std::string& what) {
-        throw InputError(where.str() + ": check: " + what + " in '" + text + "' (" + usage + ")");
+        throw InputError(where.str() + ": " + command + ": " + what + " in '" + text + "' (" + usage + ")");
     };
-    auto peek = [&]() -> std::string { return i < t.size() ? t[i].text : std::string("end of line"); };
+    auto peek = [&]() -> std::string {
+        return i < t.size() ? (t[i].bracket ? "[" + t[i].text + "]" : t[i].text) : std::string("end of line");
+    };
     auto expect = [&](const std::string& s) {
-        if (i >= t.size() || t[i].text != s) fail("expected '" + s + "', got '" + peek() + "'");
+        if (i >= t.size() || t[i].bracket || t[i].text != s) fail("expected '" + s + "', got '" + peek() + "'");
         ++i;
     };
     auto number = [&]() {
         if (i >= t.size() || !t[i].number) fail("expected a number, got '" + peek() + "'");
         return t[i++].value;
     };
-    if (t.empty()) fail("empty condition");
-    while (true) {
-        size_t first = i;
-        Term term;
-        term.stat = peek();
-        if (term.stat != "min" && term.stat != "max" && term.stat != "mean" && term.stat != "fraction")
-            fail("unknown statistic '" + term.stat + "'");
+    auto buffer = [&]() {
+        Buffer b;
+        b.name = peek();
+        if (b.name.rfind("internal:", 0) == 0) {
+            std::string rest = b.name.substr(9);
+            size_t dot = rest.find('.');
+            b.internal = rest.substr(0, dot);
+            b.channel = dot == std::string::npos ? "" : rest.substr(dot + 1);
+            if (b.internal.empty() || (dot != std::string::npos && b.channel.empty()))
+                fail("internal: expected internal:NAME or internal:NAME.CHANNEL, got '" + b.name + "'");
+            b.name = "internal";
+        } else if (b.name != "visibility" && b.name != "reference" && b.name != "error") {
+            fail("unknown buffer '" + b.name + "'");
+        }
+        b.text = peek();
+        ++i;
+        if (i < t.size() && t[i].bracket) {
+            if (!allowVariants)
+                throw InputError(where.str() + ": " + command + ": '" + b.text + "[" + t[i].text + "]': a variant of the "
+                                 "step ([KEY=VALUE]) is for expect; a task checks what the student made");
+            std::string words = t[i].text;
+            for (char& c : words)
+                if (c == ',') c = ' ';
+            std::istringstream in(words);
+            std::string word;
+            while (in >> word) {
+                size_t eq = word.find('=');
+                if (eq == std::string::npos || eq == 0 || eq + 1 == word.size())
+                    fail("a variant is [KEY=VALUE ...] (technique=ID, light.size=S or a parameter), got '" + word + "'");
+                b.changes.push_back({word.substr(0, eq), word.substr(eq + 1)});
+                b.variantKey += (b.variantKey.empty() ? "" : " ") + word;
+            }
+            if (b.changes.empty()) fail("empty variant '[]'");
+            b.text += "[" + b.variantKey + "]";
+            ++i;
+        }
+        return b;
+    };
+    auto stat = [&]() {
+        Stat s;
+        s.stat = peek();
+        if (s.stat != "min" && s.stat != "max" && s.stat != "mean" && s.stat != "fraction")
+            fail("unknown statistic '" + s.stat + "'");
         ++i;
         expect("(");
-        term.buffer = peek();
-        if (term.buffer != "visibility" && term.buffer != "reference" && term.buffer != "error")
-            fail("unknown buffer '" + term.buffer + "'");
-        ++i;
-        if (term.stat == "fraction") {
+        std::string inner;
+        if (peek() == "diff") {
+            ++i;
+            expect("(");
+            s.buffers.push_back(buffer());
+            expect(",");
+            s.buffers.push_back(buffer());
+            expect(")");
+            inner = "diff(" + s.buffers[0].text + ", " + s.buffers[1].text + ")";
+        } else {
+            s.buffers.push_back(buffer());
+            inner = s.buffers[0].text;
+        }
+        if (s.stat == "fraction") {
             if (!isComparison(peek())) fail("fraction needs a comparison, e.g. fraction(visibility < 0.5), got '" + peek() + "'");
-            term.compare = t[i++].text;
-            term.threshold = number();
+            s.compare = t[i++].text;
+            inner += " " + s.compare + " " + t[i < t.size() ? i : i - 1].text;
+            s.threshold = number();
         }
         if (peek() == "in") {
             ++i;
+            inner += " in";
             while (true) {
                 std::string m = peek();
                 bool object = m.rfind("object:", 0) == 0;
+                std::string shown = m;
                 if (object) {
                     std::string n = m.substr(7);
                     char* end = nullptr;
                     long id = std::strtol(n.c_str(), &end, 10);
                     if (n.empty() || *end != '\0' || id < 0 || id > 16777215)
                         fail("object:N needs a whole number N in [0, 2^24 - 1] (an object id), got '" + m + "'");
-                } else if (m != "all" && m != "lit" && m != "umbra" && m != "penumbra") {
+                } else if (m == "near") {
+                    // near(X Y Z, R): the pixels whose surface point lies within R of a world point.
+                    ++i;
+                    expect("(");
+                    glm::vec4 ball;
+                    for (int k = 0; k < 3; ++k) ball[k] = float(number());
+                    expect(",");
+                    ball.w = float(number());
+                    if (!(ball.w > 0.0f)) fail("near(X Y Z, R) needs a radius R > 0");
+                    if (i >= t.size() || t[i].text != ")") fail("expected ')' after near(X Y Z, R), got '" + peek() + "'");
+                    shown = "near(" + shortNumber(ball.x) + " " + shortNumber(ball.y) + " " + shortNumber(ball.z) + ", " +
+                            shortNumber(ball.w) + ")";
+                    s.near.push_back(ball);
+                } else if (m != "all" && m != "lit" && m != "umbra" && m != "penumbra" && m != "pick") {
                     fail("unknown mask '" + m + "'");
                 }
-                term.masks.push_back(m);
+                inner += (s.masks.empty() ? " " : " & ") + shown;
+                s.masks.push_back(m);
                 ++i;
                 if (peek() != "&") break;
                 ++i;
             }
         }
         expect(")");
+        s.text = s.stat + "(" + inner + ")";
+        return s;
+    };
+    if (t.empty()) fail("empty condition");
+    while (true) {
+        Term term;
+        term.lhs = stat();
         if (!isComparison(peek())) fail("expected a comparison < <= > >= after ')', got '" + peek() + "'");
         term.op = t[i++].text;
-        term.value = number();
-        for (size_t k = first; k < i; ++k) term.text += (k > first && t[k].text != ")" && t[k].text != "(" && t[k - 1].text != "(" ? " " : "") + t[k].text;
+        term.text = term.lhs.text + " " + term.op + " ";
+        if (i < t.size() && t[i].number) {
+            term.text += t[i].text;
+            term.value = number();
+        } else {
+            if (i >= t.size() || t[i].bracket || !std::isalpha(static_cast<unsigned char>(t[i].text[0])))
+                fail("expected a number or a statistic after '" + term.op + "', got '" + peek() + "'");
+            term.rhs = stat();
+            term.text += term.rhs->text;
+            if (peek() == "+" || peek() == "-") {
+                const bool minus = peek() == "-";
+                ++i;
+                term.text += std::string(minus ? " - " : " + ") + (i < t.size() ? t[i].text : "");
+                term.value = number() * (minus ? -1.0 : 1.0);
+            }
+        }
         terms_.push_back(term);
         if (i == t.size()) break;
         expect("and");
     }
+    // What the step's own render must provide before bind() knows the variants.
+    for (const Term& term : terms_)
+        for (const Stat* s : {&term.lhs, term.rhs ? &*term.rhs : nullptr}) {
+            if (!s) continue;
+            for (const std::string& m : s->masks) {
+                if (m == "lit" || m == "umbra" || m == "penumbra") reads_.reference = true;
+                if (m == "near") reads_.positions = true;
+            }
+            for (const Buffer& b : s->buffers)
+                if (b.changes.empty()) {
+                    if (b.name == "reference" || b.name == "error") reads_.reference = true;
+                    if (b.name == "internal") reads_.internals.insert(b.internal);
+                }
+        }
+}
+
+namespace {
+
+// The step's state with an expectation's changes: technique=ID (its parameters at their defaults),
+// light.size=S (light 0) and the current technique's parameters, in the order written.
+LessonState variantState(const LessonState& step, const std::vector<std::pair<std::string, std::string>>& changes,
+                         const SourceLocation& where, const std::string& command) {
+    LessonState s = step;
+    for (const auto& [key, value] : changes) {
+        if (key == "technique") {
+            const TechniqueDesc& desc = requireTechnique(value, where.str());
+            s.technique = desc.id;
+            s.params = ParamValues(desc);
+        } else if (key == "light.size") {
+            double v = parseNumber(value, where, command + " [light.size=S]");
+            if (v < 0.0 || v > 1000.0)
+                throw InputError(where.str() + ": " + command + ": light.size: expected a value in [0, 1000], got " + value);
+            if (s.lights.empty()) throw InputError(where.str() + ": " + command + ": light.size: the scene has no light");
+            s.lights[0].size = float(v);
+            if (v > 0.0 && s.lights[0].shape == LightShape::Point) s.lights[0].shape = LightShape::Square;
+        } else {
+            s.params.set(*findTechnique(s.technique), key, value, where.str());
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+void TaskCondition::bind(const LessonState& step) {
+    const std::string at = where_.str() + ": " + command_ + ": ";
+    variants_.clear();
+    for (Term& term : terms_)
+        for (Stat* s : {&term.lhs, term.rhs ? &*term.rhs : nullptr}) {
+            if (!s) continue;
+            if (std::count(s->masks.begin(), s->masks.end(), "pick") && !step.pick)
+                throw InputError(at + "the mask 'pick' needs a picked pixel ('pick at X Y Z' in this step or before)");
+            for (Buffer& b : s->buffers) {
+                const LessonState* state = &step;
+                TaskReads* reads = &reads_;
+                b.variant = -1;
+                if (!b.changes.empty()) {
+                    auto it = std::find_if(variants_.begin(), variants_.end(),
+                                           [&](const TaskVariant& v) { return v.key == b.variantKey; });
+                    if (it == variants_.end()) {
+                        TaskVariant v;
+                        v.key = b.variantKey;
+                        v.changes = b.changes;
+                        v.state = variantState(step, b.changes, where_, command_);
+                        v.sharesReference = v.state.lights.size() == step.lights.size() &&
+                                            std::equal(v.state.lights.begin(), v.state.lights.end(), step.lights.begin(),
+                                                       [](const Light& a, const Light& b) { return sameLight(a, b); });
+                        variants_.push_back(v);
+                        it = variants_.end() - 1;
+                    }
+                    b.variant = int(it - variants_.begin());
+                    state = &it->state;
+                    reads = &it->reads;
+                    // The reference depends on the scene, the lights and the camera only: a variant
+                    // that changes the technique alone reads the step's own.
+                    if (b.name == "reference" || b.name == "error") (it->sharesReference ? reads_ : *reads).reference = true;
+                }
+                if (b.name != "internal") continue;
+                // "light1/kernel_size": light 1's internal, as Renderer::writeInternals names it.
+                std::string name = b.internal;
+                size_t light = 0;
+                if (name.rfind("light", 0) == 0 && name.find('/') != std::string::npos) {
+                    const std::string n = name.substr(5, name.find('/') - 5);
+                    char* end = nullptr;
+                    long index = std::strtol(n.c_str(), &end, 10);
+                    if (n.empty() || *end != '\0' || index < 1)
+                        throw InputError(at + "internal:" + b.internal + ": expected internal:NAME or internal:lightN/NAME (N >= 1)");
+                    light = size_t(index);
+                    name = name.substr(name.find('/') + 1);
+                }
+                if (light >= state->lights.size())
+                    throw InputError(at + "internal:" + b.internal + ": the scene has " + std::to_string(state->lights.size()) +
+                                     " light(s)");
+                const TechniqueDesc& desc = *findTechnique(state->technique);
+                std::vector<std::string> names;
+                for (const InternalDesc& i : desc.internals)
+                    if (i.kind == InternalDesc::Kind::Image || i.kind == InternalDesc::Kind::Pyramid) names.push_back(i.name);
+                const InternalDesc* internal = desc.findInternal(name);
+                if (!internal || (internal->kind != InternalDesc::Kind::Image && internal->kind != InternalDesc::Kind::Pyramid))
+                    throw InputError(at + "unknown internal '" + name + "' for technique " + desc.id +
+                                     (names.empty() ? " (it has no image internals)" : " (its image internals: " + joinList(names) + ")"));
+                if (!internal->appliesWhen.empty() && !Condition(internal->appliesWhen, desc, at).holds(state->params))
+                    throw InputError(at + "internal '" + name + "' of " + desc.id + " is written only when " +
+                                     internal->appliesWhen + ", not in this step");
+                b.channelIndex = -1;
+                if (!b.channel.empty()) {
+                    auto c = std::find(internal->channels.begin(), internal->channels.end(), b.channel);
+                    if (c == internal->channels.end())
+                        throw InputError(at + "internal '" + name + "' of " + desc.id + " has no channel '" + b.channel +
+                                         "' (channels: " + joinList(internal->channels) + ")");
+                    b.channelIndex = int(c - internal->channels.begin());
+                } else if (s->buffers.size() == 2 && internal->channels.size() > 1) {
+                    throw InputError(at + "diff: internal '" + name + "' has " + std::to_string(internal->channels.size()) +
+                                     " channels; name one (internal:" + b.internal + "." + internal->channels[0] + ")");
+                }
+                reads->internals.insert(b.internal);
+            }
+        }
 }
 
 bool TaskCondition::readsReference() const {
-    for (const Term& t : terms_)
-        if (t.buffer != "visibility" || !t.masks.empty()) return true;
+    if (reads_.reference) return true;
+    for (const TaskVariant& v : variants_)
+        if (v.reads.reference) return true;
     return false;
 }
 
-TaskCondition::Outcome TaskCondition::evaluate(const TaskBuffers& b) const {
-    Outcome out;
-    out.passed = !terms_.empty();
-    const size_t n = b.ids.pixelCount();
-    if (b.visibility.pixelCount() != n || (readsReference() && b.reference.pixelCount() != n))
-        throw InternalError("task check: buffers differ in size");
-    for (const Term& term : terms_) {
-        double lo = INFINITY, hi = -INFINITY, sum = 0.0;
-        size_t count = 0, hits = 0;
-        // object:N masks as ids (-1 for the others).
-        std::vector<int> objectIds;
-        for (const std::string& m : term.masks) objectIds.push_back(m.rfind("object:", 0) == 0 ? std::stoi(m.substr(7)) : -1);
+// One statistic over the pixels of the image's geometry (never the background) inside the masks,
+// or over every texel of an internal that lives in light space. NaN with `problem` set when the
+// buffers cannot answer.
+double TaskCondition::statistic(const Stat& s, const TaskBuffers& step, const std::vector<TaskBuffers>& variants,
+                                std::string& problem) const {
+    const std::string at = where_.str() + ": " + command_ + " " + text_ + ": ";
+    const size_t n = step.ids.pixelCount();
+    struct Source {
+        const Buffer* b;
+        const TaskBuffers* r;
+        const Image* internal = nullptr;
+        bool frame = true;
+        const Image* ref = nullptr;  // the reference this buffer's render is compared with
+    };
+    std::vector<Source> sources;
+    for (const Buffer& b : s.buffers) {
+        if (b.variant >= int(variants.size())) throw InternalError(at + "the variants' buffers are missing");
+        Source src{&b, b.variant < 0 ? &step : &variants[size_t(b.variant)]};
+        if (b.name == "visibility" && src.r->visibility.pixelCount() != n) throw InternalError(at + "buffers differ in size");
+        const TaskBuffers& withReference = b.variant >= 0 && variants_[size_t(b.variant)].sharesReference ? step : *src.r;
+        src.ref = &withReference.reference;
+        if ((b.name == "reference" || b.name == "error") && src.ref->pixelCount() != n)
+            throw InternalError(at + "the reference was not read");
+        if (b.name == "internal") {
+            auto it = src.r->internals.find(b.internal);
+            if (it == src.r->internals.end() || it->second.pixelCount() == 0) {
+                problem = "internal '" + b.internal + "' was not written" + (b.variant < 0 ? "" : " in [" + b.variantKey + "]");
+                return NAN;
+            }
+            src.internal = &it->second;
+            src.frame = it->second.width == step.ids.width && it->second.height == step.ids.height;
+            if (b.channelIndex >= it->second.channels) throw InternalError(at + "internal channel out of range");
+        }
+        sources.push_back(src);
+    }
+    double lo = INFINITY, hi = -INFINITY, sum = 0.0;
+    size_t count = 0, hits = 0;
+    auto add = [&](double v) {
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+        sum += v;
+        ++count;
+        if (s.stat == "fraction" && compare(v, s.compare, s.threshold)) ++hits;
+    };
+    // An internal's value counts when finite and not negative (the techniques' -1: no receiver, no
+    // blocker, the step did not run).
+    auto usable = [](float v) { return std::isfinite(v) && v >= 0.0f; };
+    if (!sources[0].frame || (sources.size() == 2 && !sources[1].frame)) {
+        const Source& src = sources[0];
+        const Source& other = src.frame ? sources[1] : src;
+        const std::string size = std::to_string(other.internal->width) + "x" + std::to_string(other.internal->height);
+        if (sources.size() == 2) {
+            problem = "internal '" + other.b->internal + "' is " + size + " texels (light space), not the image's size: "
+                      "diff compares pixel by pixel";
+            return NAN;
+        }
+        for (const std::string& m : s.masks)
+            if (m != "all") {
+                problem = "internal '" + src.b->internal + "' is " + size + " texels (light space), not the image's size: "
+                          "the mask '" + m + "' does not apply";
+                return NAN;
+            }
+        const Image& img = *src.internal;
+        for (size_t p = 0; p < img.pixelCount(); ++p)
+            for (int c = 0; c < img.channels; ++c)
+                if ((src.b->channelIndex < 0 || c == src.b->channelIndex) && usable(img.data[p * size_t(img.channels) + size_t(c)]))
+                    add(img.data[p * size_t(img.channels) + size_t(c)]);
+    } else {
+        std::vector<int> objectIds;  // object:N masks as ids (-1 for the others)
+        for (const std::string& m : s.masks) objectIds.push_back(m.rfind("object:", 0) == 0 ? std::stoi(m.substr(7)) : -1);
+        const bool picked = std::count(s.masks.begin(), s.masks.end(), "pick") > 0;
+        if (picked && !step.pick) {
+            problem = "no picked pixel on the image";
+            return NAN;
+        }
+        if (!s.near.empty() && step.positions.pixelCount() != n) throw InternalError(at + "the positions were not read");
+        const size_t pickIndex = picked ? size_t(step.pick->y) * size_t(step.ids.width) + size_t(step.pick->x) : 0;
         for (size_t p = 0; p < n; ++p) {
-            float id = b.ids.data[p];
+            float id = step.ids.data[p];
             if (id < 0.0f) continue;  // background
+            if (picked && p != pickIndex) continue;
             bool inside = true;
-            for (size_t k = 0; k < term.masks.size() && inside; ++k) {
-                const std::string& m = term.masks[k];
+            size_t nearIndex = 0;
+            for (size_t k = 0; k < s.masks.size() && inside; ++k) {
+                const std::string& m = s.masks[k];
                 if (objectIds[k] >= 0) {
                     inside = int(id) == objectIds[k];
+                } else if (m == "near") {
+                    const glm::vec4 ball = s.near[nearIndex++];
+                    const glm::vec3 x(step.positions.data[p * 3], step.positions.data[p * 3 + 1], step.positions.data[p * 3 + 2]);
+                    inside = glm::length(x - glm::vec3(ball)) <= ball.w;
+                } else if (m == "pick") {
+                    inside = true;
                 } else if (m != "all") {
-                    float r = b.reference.data[p];
+                    float r = step.reference.data[p];
                     inside = m == "lit"     ? r >= kLitThreshold
                              : m == "umbra" ? r <= kUmbraThreshold
                                             : r > kUmbraThreshold && r < kLitThreshold;
                 }
             }
             if (!inside) continue;
-            double v = term.buffer == "visibility" ? b.visibility.data[p]
-                       : term.buffer == "reference" ? b.reference.data[p]
-                                                    : std::fabs(double(b.visibility.data[p]) - b.reference.data[p]);
-            if (!std::isfinite(v)) continue;
-            lo = std::min(lo, v);
-            hi = std::max(hi, v);
-            sum += v;
-            ++count;
-            if (term.stat == "fraction" && compare(v, term.compare, term.threshold)) ++hits;
+            // One value per buffer at this pixel (every channel of an internal without one named).
+            double values[2] = {0.0, 0.0};
+            bool ok = true;
+            for (size_t k = 0; k < sources.size() && ok; ++k) {
+                const Source& src = sources[k];
+                const std::string& name = src.b->name;
+                if (name == "internal") {
+                    const Image& img = *src.internal;
+                    if (src.b->channelIndex < 0 && sources.size() == 1) {
+                        for (int c = 0; c < img.channels; ++c)
+                            if (usable(img.data[p * size_t(img.channels) + size_t(c)])) add(img.data[p * size_t(img.channels) + size_t(c)]);
+                        ok = false;  // added channel by channel
+                        break;
+                    }
+                    float v = img.data[p * size_t(img.channels) + size_t(std::max(src.b->channelIndex, 0))];
+                    ok = usable(v);
+                    values[k] = v;
+                } else {
+                    values[k] = name == "visibility" ? src.r->visibility.data[p]
+                                : name == "reference" ? src.ref->data[p]
+                                                      : std::fabs(double(src.r->visibility.data[p]) - src.ref->data[p]);
+                    ok = std::isfinite(values[k]);
+                }
+            }
+            if (!ok) continue;
+            add(sources.size() == 2 ? std::fabs(values[0] - values[1]) : values[0]);
         }
-        double value = NAN;
-        if (count > 0)
-            value = term.stat == "min" ? lo : term.stat == "max" ? hi : term.stat == "mean" ? sum / count : double(hits) / count;
-        bool ok = count > 0 && compare(value, term.op, term.value);
+    }
+    if (count == 0) {
+        problem = "no pixel in the mask";
+        return NAN;
+    }
+    return s.stat == "min" ? lo : s.stat == "max" ? hi : s.stat == "mean" ? sum / double(count) : double(hits) / double(count);
+}
+
+TaskCondition::Outcome TaskCondition::evaluate(const TaskBuffers& b, const std::vector<TaskBuffers>& variants) const {
+    Outcome out;
+    out.passed = !terms_.empty();
+    if (b.visibility.pixelCount() != b.ids.pixelCount() || (reads_.reference && b.reference.pixelCount() != b.ids.pixelCount()))
+        throw InternalError(where_.str() + ": " + command_ + ": buffers differ in size");
+    if (variants.size() != variants_.size()) throw InternalError(where_.str() + ": " + command_ + ": the variants' buffers are missing");
+    for (const Term& term : terms_) {
+        std::string problem;
+        double value = statistic(term.lhs, b, variants, problem);
+        double need = term.value;
+        std::string against;
+        if (term.rhs && problem.empty()) {
+            double r = statistic(*term.rhs, b, variants, problem);
+            need = r + term.value;
+            against = term.rhs->text + " = " + shortNumber(r);
+        }
+        if (!problem.empty()) need = NAN;
+        bool ok = problem.empty() && compare(value, term.op, need);
         out.passed = out.passed && ok;
         out.values.push_back(value);
-        char line[512];
-        if (count == 0)
-            std::snprintf(line, sizeof line, "%s: no pixel in the mask", term.text.c_str());
+        out.needs.push_back(need);
+        out.termPassed.push_back(ok);
+        out.problems.push_back(problem);
+        std::string line = term.text + ": ";
+        if (!problem.empty())
+            line += problem;
         else
-            std::snprintf(line, sizeof line, "%s: %.4g (needs %s %g) %s", term.text.c_str(), value, term.op.c_str(),
-                          term.value, ok ? "yes" : "not yet");
-        out.message += (out.message.empty() ? "" : "\n") + std::string(line);
+            line += shortNumber(value) + " (needs " + term.op + " " + shortNumber(need) +
+                    (against.empty() ? "" : ", " + against) + ") " + (ok ? "yes" : "not yet");
+        out.message += (out.message.empty() ? "" : "\n") + line;
+    }
+    return out;
+}
+
+std::string TaskCondition::failures(const Outcome& o) const { return termValues(o, true); }
+std::string TaskCondition::measured(const Outcome& o) const { return termValues(o, false); }
+
+std::string TaskCondition::termValues(const Outcome& o, bool failingOnly) const {
+    std::string out;
+    for (size_t k = 0; k < terms_.size() && k < o.values.size(); ++k) {
+        if (failingOnly && o.termPassed[k]) continue;
+        std::string value;
+        if (!o.problems[k].empty()) {
+            value = o.problems[k];  // "no pixel in the mask", "internal ... was not written"
+        } else {
+            value = shortNumber(o.values[k]);
+            if (terms_[k].rhs || !failingOnly) value += " (needs " + terms_[k].op + " " + shortNumber(o.needs[k]) + ")";
+        }
+        // One term: its value alone (the condition is printed beside it); several: each named.
+        out += (out.empty() ? "" : "; ") + (terms_.size() == 1 ? value : terms_[k].text + ": " + value);
     }
     return out;
 }
@@ -592,7 +955,7 @@ LessonCommand parseCommandLine(const std::string& line, const SourceLocation& wh
     size_t sp = body.find_first_of(" \t");
     c.name = body.substr(0, sp);
     std::string rest = sp == std::string::npos ? "" : trim(body.substr(sp));
-    if (c.name == "try" || c.name == "check") {
+    if (c.name == "try" || c.name == "check" || c.name == "expect") {
         if (rest.empty()) throw InputError(where.str() + ": " + c.name + ": expected text after '" + c.name + "'");
         c.args = {rest};  // the prompt or the condition, whole
     } else if (c.name == "answer") {
@@ -636,6 +999,8 @@ void applyStepCommands(LessonStep& step, LessonState& state) {
             condition = c.args[0];
         } else if (c.name == "answer") {
             answer.push_back(parseCommandLine(c.args[0], c.where));
+        } else if (c.name == "expect") {
+            step.expects.push_back({TaskCondition(c.args[0], c.where, "expect", true), c.where});
         } else {
             applyLessonCommand(state, c);
         }
@@ -645,6 +1010,7 @@ void applyStepCommands(LessonStep& step, LessonState& state) {
             throw InputError(step.where.str() + ": the " + view + " view is shown but technique " + state.technique +
                              " has no light-centre shadow map (show it with hard or pcf, or 'hide " + view + "')");
     step.state = state;
+    for (LessonExpect& e : step.expects) e.condition.bind(state);
     // Animation targets are checked against the step's technique and light.
     if (step.animate) {
         const LessonAnimation& a = *step.animate;
@@ -674,6 +1040,7 @@ void applyStepCommands(LessonStep& step, LessonState& state) {
         task.prompt = prompt;
         task.where = at;
         task.check = TaskCondition(condition, *checkAt);
+        task.check.bind(state);
         task.answer = answer;
         LessonState answered = state;
         for (const LessonCommand& c : answer) {
@@ -709,6 +1076,11 @@ Lesson parseLesson(const std::string& text, const std::string& file, const std::
     std::vector<LessonCommand> startCommands;
     LessonStep* step = nullptr;
     std::string* narration = &lesson.introduction;
+    std::vector<int>* narrationLines = &lesson.introductionLines;
+    auto narrate = [&](size_t index) {
+        *narration += lines[index] + "\n";
+        narrationLines->push_back(int(index + 1));
+    };
     bool titled = false;
     for (size_t i = 0; i < lines.size(); ++i) {
         const std::string& line = lines[i];
@@ -726,7 +1098,7 @@ Lesson parseLesson(const std::string& text, const std::string& file, const std::
                     (step ? step->commands : startCommands).push_back(c);
                 }
             } else {
-                for (size_t k = i; k <= end; ++k) *narration += lines[k] + "\n";
+                for (size_t k = i; k <= end; ++k) narrate(k);
             }
             i = end;
             continue;
@@ -746,22 +1118,28 @@ Lesson parseLesson(const std::string& text, const std::string& file, const std::
             step->where = at(i);
             if (step->title.empty()) throw InputError(at(i).str() + ": empty step title");
             narration = &step->narration;
+            narrationLines = &step->narrationLines;
             continue;
         }
         if (!titled) {
             if (trim(line).empty()) continue;
             throw InputError(at(i).str() + ": expected the lesson title ('# Title') on the first line, got '" + line + "'");
         }
-        *narration += line + "\n";
+        narrate(i);
     }
     if (!titled) throw InputError(file + ":1: expected the lesson title ('# Title'), the file is empty");
     if (lesson.steps.empty()) throw InputError(file + ":" + std::to_string(lines.size()) + ": a lesson needs at least one step ('## Title')");
-    auto trimNarration = [](std::string& s) {
+    // Leading empty lines and trailing blanks go; each line keeps its source line, and its links
+    // are checked (a refused link is an error naming that line).
+    auto trimNarration = [&](std::string& s, std::vector<int>& sourceLines) {
         size_t a = s.find_first_not_of("\n");
         s = a == std::string::npos ? "" : s.substr(a);
+        sourceLines.erase(sourceLines.begin(), sourceLines.begin() + std::min(sourceLines.size(), a == std::string::npos ? sourceLines.size() : a));
         while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+        sourceLines.resize(s.empty() ? 0 : size_t(std::count(s.begin(), s.end(), '\n')) + 1);
+        markdownToHtml(s, file, sourceLines);
     };
-    trimNarration(lesson.introduction);
+    trimNarration(lesson.introduction, lesson.introductionLines);
 
     // The start: scene first, technique defaults to the first light's technique (else hard), and
     // the reference defaults to its own defaults.
@@ -785,8 +1163,9 @@ Lesson parseLesson(const std::string& text, const std::string& file, const std::
                                 : state.referenceParams;
     lesson.start = state;
     for (LessonStep& s : lesson.steps) {
-        trimNarration(s.narration);
+        trimNarration(s.narration, s.narrationLines);
         applyStepCommands(s, state);
+        if (s.task) checkInlineLinks(s.task->prompt, s.task->where);
     }
     return lesson;
 }

@@ -82,45 +82,127 @@ struct LessonAnimation {
     SourceLocation where;
 };
 
-// ---- task conditions ------------------------------------------------------------------------------
-// What a task's condition reads: the technique's visibility, the reference's, and the object ids
-// (-1 on background), all of one size.
+// ---- conditions: a task's check and a step's expectations ------------------------------------------
+// What one render of a condition reads besides the technique's visibility and the object ids: the
+// reference (for the reference and error buffers and the lit / umbra / penumbra masks) and
+// internals of the technique by the names Renderer::writeInternals gives them ("kernel_size", and
+// "light1/kernel_size" for light 1).
+struct TaskReads {
+    bool reference = false;
+    bool positions = false;            // the near(...) mask: the world point of every pixel
+    std::set<std::string> internals;
+    bool operator==(const TaskReads& o) const {
+        return reference == o.reference && positions == o.positions && internals == o.internals;
+    }
+};
+
+// What a condition reads from one render, all of the image's size but the internals that live in
+// light space (a shadow map): the technique's visibility, the reference's, the object ids (-1 on
+// background), and the internals asked for (every channel; a pyramid's level 0). An internal the
+// technique did not write is absent.
 struct TaskBuffers {
     Image visibility;
     Image reference;
     Image ids;
+    Image positions;                   // world position per pixel (3 channels; not finite on background)
+    std::optional<glm::ivec2> pick;    // the picked pixel, when the host has one (the pick mask)
+    std::map<std::string, Image> internals;
 };
 
-// A condition over the buffers (grammar in lessons/README.md), e.g.
+// The step rendered with a few changes (an expectation's `visibility[filter=gaussian]`): the
+// changes as written, the state they make, and what its render must provide.
+struct TaskVariant {
+    std::string key;                   // the changes as one canonical text: "filter=gaussian"
+    std::vector<std::pair<std::string, std::string>> changes;
+    LessonState state;
+    TaskReads reads;
+    bool sharesReference = false;      // its lights are the step's: its reference is the step's own
+};
+
+// A condition over the buffers of the step's render and of its variants (grammar in
+// lessons/README.md), e.g.
 //   min(reference) >= 0.01
 //   fraction(visibility < 0.5 in lit & object:0) < 0.01
+//   mean(visibility in penumbra & object:0) < mean(reference in penumbra & object:0) - 0.02
+//   mean(internal:reuse_step2) > 0.9
+//   mean(diff(visibility, visibility[filter=gaussian]) in penumbra) > 0.02
 class TaskCondition {
 public:
     TaskCondition() = default;
-    // Throws InputError naming `where` when the text does not parse.
-    TaskCondition(const std::string& text, const SourceLocation& where);
+    // Throws InputError naming `where` when the text does not parse; `command` is the word the
+    // lesson wrote ("check", "expect") for messages. Variants ([...]) only where `variants` allows.
+    TaskCondition(const std::string& text, const SourceLocation& where, const std::string& command = "check",
+                  bool variants = false);
+    // Validates the internals and the variants against the step's state (the technique's
+    // descriptor: its internals, their channels and when they apply; the variants' keys and
+    // values) and computes each variant's state. InputError naming the condition's line.
+    void bind(const LessonState& step);
     struct Outcome {
         bool passed = false;
         std::string message;           // one line per term: its value and what it needs
         std::vector<double> values;    // each term's value (NaN when its mask is empty)
+        std::vector<double> needs;     // what each term's value was compared with (NaN when unknown)
+        std::vector<bool> termPassed;
+        std::vector<std::string> problems;  // each term's: "" or why it has no value ("no pixel in the mask")
     };
-    Outcome evaluate(const TaskBuffers& buffers) const;
+    // `variants[k]` are the buffers of variants()[k]. InputError (naming the line) for what the
+    // buffers cannot answer: an internal of another size under a mask, two buffers of different
+    // sizes in a diff.
+    Outcome evaluate(const TaskBuffers& step, const std::vector<TaskBuffers>& variants = {}) const;
     const std::string& text() const { return text_; }
-    bool readsReference() const;
+    const SourceLocation& where() const { return where_; }
+    const TaskReads& reads() const { return reads_; }
+    const std::vector<TaskVariant>& variants() const { return variants_; }
+    bool readsReference() const;   // the step's render or any variant's
+    // The term texts that failed in `o`, each with its value: "mean(visibility) > 0.3: 0.21".
+    std::string failures(const Outcome& o) const;
+    // Every term's value and what it needed: "0.21 (needs > 0.3)"; several terms each named.
+    std::string measured(const Outcome& o) const;
+
+    struct Buffer {
+        std::string name;              // visibility, reference, error, internal
+        std::string internal;          // internal: the collector's key ("kernel_size", "light1/kernel_size")
+        std::string channel;           // internal: "" = every channel
+        int channelIndex = -1;         // bound: the channel's index (-1 = every channel)
+        int variant = -1;              // index into variants(), -1 = the step's own render
+        std::string variantKey;
+        std::vector<std::pair<std::string, std::string>> changes;
+        std::string text;
+    };
+    struct Stat {
+        std::string stat;              // min, max, mean, fraction
+        std::vector<Buffer> buffers;   // one, or two for diff(a, b) = |a - b|
+        std::string compare;           // fraction only: < <= > >=
+        double threshold = 0.0;
+        std::vector<std::string> masks;  // all, lit, umbra, penumbra, object:N, pick, near
+        std::vector<glm::vec4> near;     // per near mask: the world point and the radius
+        std::string text;
+    };
 
 private:
     struct Term {
-        std::string stat;              // min, max, mean, fraction
-        std::string buffer;            // visibility, reference, error
-        std::string compare;           // fraction only: < <= > >=
-        double threshold = 0.0;
-        std::vector<std::string> masks;  // all, lit, umbra, penumbra, object:N
+        Stat lhs;
         std::string op;                // < <= > >=
+        std::optional<Stat> rhs;       // compared with rhs + value, or with value alone
         double value = 0.0;
         std::string text;
     };
+    std::string termValues(const Outcome& o, bool failingOnly) const;
+    double statistic(const Stat& s, const TaskBuffers& step, const std::vector<TaskBuffers>& variants,
+                     std::string& problem) const;
     std::string text_;
+    SourceLocation where_;
+    std::string command_ = "check";
     std::vector<Term> terms_;
+    TaskReads reads_;
+    std::vector<TaskVariant> variants_;
+};
+
+// A claim of the narration that the step's pictures show (`expect CONDITION`): checked in every
+// render of the lesson (the handout, --check --sizes, the window's player).
+struct LessonExpect {
+    TaskCondition condition;
+    SourceLocation where;
 };
 
 struct LessonTask {
@@ -133,9 +215,11 @@ struct LessonTask {
 struct LessonStep {
     std::string title;
     std::string narration;             // Markdown
+    std::vector<int> narrationLines;   // the source line of each line of `narration`
     std::vector<LessonCommand> commands;
     std::optional<LessonAnimation> animate;
     std::optional<LessonTask> task;
+    std::vector<LessonExpect> expects;  // the narration's claims, in order
     LessonState state;                 // the complete state of this step
     std::optional<LessonState> answerState;  // state + the task's answer
     SourceLocation where;
@@ -146,6 +230,7 @@ struct Lesson {
     std::string file;                  // as named in messages: "lessons/intro.md"
     std::string title;
     std::string introduction;          // Markdown before the first step
+    std::vector<int> introductionLines;
     LessonState start;
     std::vector<LessonStep> steps;
 };

@@ -2,6 +2,7 @@
 #include <imgui.h>
 
 #include <cctype>
+#include <cstdio>
 #include <sstream>
 #include <string>
 
@@ -113,11 +114,46 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
         return ImGui::Button(label);
     };
     // The narration scrolls; the task and the buttons (up to two rows each) stay below it.
-    ImGui::BeginChild("narration", ImVec2(0, -ImGui::GetFrameHeightWithSpacing() * (step.task ? 8.0f : 3.0f)), false);
+    const bool claims = !step.expects.empty();
+    ImGui::BeginChild("narration",
+                      ImVec2(0, -ImGui::GetFrameHeightWithSpacing() * ((step.task ? 8.0f : 3.0f) + (claims ? 1.5f : 0.0f))), false);
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextUnformatted(reflowNarration(step.narration).c_str());
+    // The step's claims as measured (lessons/README.md, expect), each with its value.
+    if (player.expectStatus() == LessonPlayer::ExpectStatus::Checked) {
+        ImGui::Spacing();
+        for (size_t k = 0; k < player.expectResults().size(); ++k) {
+            const LessonPlayer::ExpectResult& r = player.expectResults()[k];
+            ImGui::PushStyleColor(ImGuiCol_Text, r.passed ? ImVec4(0.5f, 0.85f, 0.5f, 1.0f) : ImVec4(1.0f, 0.45f, 0.35f, 1.0f));
+            ImGui::TextWrapped("%s expect %s: %s", r.passed ? "holds:" : "FAILS:", step.expects[k].condition.text().c_str(),
+                               r.passed ? r.message.c_str() : r.failure.c_str());
+            ImGui::PopStyleColor();
+        }
+    }
     ImGui::PopTextWrapPos();
     ImGui::EndChild();
+    if (claims) {
+        // One line under the narration: what the step's claims came to.
+        size_t held = 0;
+        for (const LessonPlayer::ExpectResult& r : player.expectResults()) held += r.passed;
+        char line[256];
+        switch (player.expectStatus()) {
+            case LessonPlayer::ExpectStatus::Pending:
+                std::snprintf(line, sizeof line, "checking the step's claims: %s",
+                              player.expectWaiting().empty() ? "..." : player.expectWaiting().c_str());
+                break;
+            case LessonPlayer::ExpectStatus::Changed:
+                std::snprintf(line, sizeof line, "claims not checked: the step was changed first (R restores it)");
+                break;
+            default:
+                std::snprintf(line, sizeof line, "claims: %zu of %zu hold (measured here, listed under the narration)", held,
+                              player.expectResults().size());
+        }
+        const bool bad = player.expectStatus() == LessonPlayer::ExpectStatus::Checked && held < player.expectResults().size();
+        ImGui::PushStyleColor(ImGuiCol_Text, bad ? ImVec4(1.0f, 0.45f, 0.35f, 1.0f) : ImVec4(0.8f, 0.8f, 0.8f, 1.0f));
+        ImGui::TextWrapped("%s", line);
+        ImGui::PopStyleColor();
+    }
     if (step.task) {
         ImGui::Separator();
         ImGui::TextWrapped("Try this: %s", step.task->prompt.c_str());

@@ -84,6 +84,46 @@ void LessonPlayer::goTo(size_t step) {
     animationTime_ = 0.0;
     playing_ = hasAnimation();
     apply(lesson_.steps[step_].state);
+    expectResults_.clear();
+    expectWaiting_.clear();
+    expectStatus_ = lesson_.steps[step_].expects.empty() ? ExpectStatus::None : ExpectStatus::Pending;
+    expectVersion_ = host_.shownVersion();
+}
+
+TaskCondition::Outcome evaluateOnHost(const TaskCondition& condition, LessonHost& host) {
+    TaskBuffers own = host.readTaskBuffers(condition.reads());
+    std::vector<TaskBuffers> variants;
+    for (const TaskVariant& v : condition.variants()) variants.push_back(host.readVariantBuffers(v.state, v.reads));
+    return condition.evaluate(own, variants);
+}
+
+bool LessonPlayer::checkExpects() {
+    if (expectStatus_ != ExpectStatus::Pending) return true;
+    if (host_.shownVersion() != expectVersion_) {
+        expectStatus_ = ExpectStatus::Changed;
+        return true;
+    }
+    const std::vector<LessonExpect>& expects = step().expects;
+    bool reference = false;
+    for (const LessonExpect& e : expects) reference = reference || e.condition.reads().reference;
+    if (!host_.taskBuffersReady(reference, expectWaiting_)) return false;
+    expectWaiting_.clear();
+    expectResults_.clear();
+    for (const LessonExpect& e : expects) {
+        ExpectResult r;
+        try {
+            r.outcome = evaluateOnHost(e.condition, host_);
+            r.passed = r.outcome.passed;
+            r.message = r.outcome.message;
+            r.failure = r.passed ? "" : e.condition.failures(r.outcome);
+        } catch (const InputError& error) {  // what the buffers cannot answer: reported as the claim's failure
+            r.passed = false;
+            r.message = r.failure = error.what();
+        }
+        expectResults_.push_back(r);
+    }
+    expectStatus_ = ExpectStatus::Checked;
+    return true;
 }
 
 bool LessonPlayer::next() {
@@ -114,7 +154,12 @@ const LessonPlayer::Feedback& LessonPlayer::checkTask() {
         return f;
     }
     f.pending = false;
-    TaskCondition::Outcome outcome = s.task->check.evaluate(host_.readTaskBuffers(s.task->check.readsReference()));
+    TaskCondition::Outcome outcome;
+    try {
+        outcome = evaluateOnHost(s.task->check, host_);
+    } catch (const InputError& error) {  // the student's state cannot answer it (another technique's internal)
+        outcome.message = error.what();
+    }
     if (f.status == TaskStatus::ShownAnswer && outcome.passed) {
         f.message = outcome.message;  // solved by show me: stays marked as shown
         return f;
@@ -152,7 +197,7 @@ size_t LessonPlayer::taskCount() const {
 }
 
 void LessonPlayer::update(double seconds) {
-    if (!playing_ || !hasAnimation()) return;
+    if (!playing_ || !hasAnimation() || expectsPending()) return;  // the claims are of the step's own state
     const LessonAnimation& a = *step().animate;
     animationTime_ += seconds;
     // Back and forth: from -> to in `seconds`, then back.

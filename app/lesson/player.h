@@ -45,6 +45,25 @@ public:
     // A pending check, run once the host is ready (true: it ran; the feedback has its result).
     bool finishCheck();
     bool checkPending() const { return feedback_[step_].pending; }
+    // The step's expectations (`expect`, the narration's claims), checked on what the host shows
+    // when the step is entered, once the host is ready (LessonHost::taskBuffersReady: the window's
+    // progressive reference complete); while they wait, the step's animation holds still. A failing
+    // expectation is reported (expectResults), never fatal.
+    enum class ExpectStatus { None, Pending, Checked, Changed };
+    struct ExpectResult {
+        bool passed = false;
+        std::string message;   // every term: its value and what it needs
+        std::string failure;   // the failing terms and their values ("" when passed)
+        TaskCondition::Outcome outcome;
+    };
+    ExpectStatus expectStatus() const { return expectStatus_; }
+    bool expectsPending() const { return expectStatus_ == ExpectStatus::Pending; }
+    // Runs the pending expectations if the host is ready (true: they ran, or none was pending).
+    // Changed: what the host shows is no longer the step (the user changed it first); R restores.
+    bool checkExpects();
+    const std::vector<ExpectResult>& expectResults() const { return expectResults_; }
+    const std::string& expectWaiting() const { return expectWaiting_; }  // Pending: what they wait for
+
     // Applies the step's answer state (the task's "show me").
     void showMe();
     const Feedback& feedback() const { return feedback_[step_]; }
@@ -70,7 +89,14 @@ private:
     std::vector<Feedback> feedback_;
     bool playing_ = false;
     double animationTime_ = 0.0;
+    ExpectStatus expectStatus_ = ExpectStatus::None;
+    std::vector<ExpectResult> expectResults_;
+    std::string expectWaiting_;
+    unsigned long long expectVersion_ = 0;  // the host's shownVersion() when the step was applied
 };
+
+// Renders what `condition` reads on `host` (what it shows, and each variant aside) and evaluates it.
+TaskCondition::Outcome evaluateOnHost(const TaskCondition& condition, LessonHost& host);
 
 // The animated step's state at `fraction` in [0, 1] of its animation (the value snapped to what
 // the parameter's table accepts: whole, odd, power of two).

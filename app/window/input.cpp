@@ -442,7 +442,7 @@ void Window::runScriptStep() {
     }
     // A `lesson check` waiting for the reference it reads (Window::finishPendingCheck): the next
     // command once it has run.
-    if (lesson_ && lesson_->checkPending()) return;
+    if (lesson_ && (lesson_->checkPending() || lesson_->expectsPending())) return;
     while (!script_.empty()) {
         // save-visibility saves a complete frame: while the frame budget has it refined in slices
         // (or reduced), the script waits for it.
@@ -454,7 +454,8 @@ void Window::runScriptStep() {
         if (c.verb == "key") key(keyCode(a[0]), a.size() > 1 ? modsCode(a[1]) : 0);
         else if (c.verb == "lesson") {
             lessonAction(a[0]);
-            if (lesson_ && lesson_->checkPending()) return;  // the next command once the check has run
+            // The next command once the check (and the step's expectations) have run.
+            if (lesson_ && (lesson_->checkPending() || lesson_->expectsPending())) return;
         }
         else if (c.verb == "technique") selectTechnique(a[0]);
         else if (c.verb == "scene") selectScene(a[0]);

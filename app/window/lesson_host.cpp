@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "lesson/headless.h"
 #include "lesson/player.h"
 #include "views.h"
 #include "window/window.h"
@@ -106,6 +107,13 @@ public:
         // What readTaskBuffers would otherwise complete at once (a pause of seconds): the shown
         // progressive source, and the progressive reference the task reads, for the current state.
         const glm::ivec2 size = w_.renderSize();
+        // The technique's own frame first: refined in the frame budget, complete, it is read as it
+        // is (readTaskBuffers renders nothing then; a synchronous frame of ssm-gbp06 under a wide
+        // light is a pause of seconds).
+        if (!frameComplete()) {
+            waiting = "the technique's frame";
+            return false;
+        }
         auto pending = [&](ProgressiveSource& s, const char* what) {
             if (&s == &w_.raytrace_)
                 w_.raytrace_.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
@@ -125,14 +133,22 @@ public:
         if (withReference && referenceTechnique_ == "raytraced" && pending(w_.raytrace_, "the raytraced reference")) return false;
         return true;
     }
-    TaskBuffers readTaskBuffers(bool withReference) override {
+    TaskBuffers readTaskBuffers(const TaskReads& reads) override {
+        const bool withReference = reads.reference;
         glm::ivec2 size = w_.renderSize();
         Renderer& r = *w_.renderer_;
         if (r.width() != size.x || r.height() != size.y) r.resize(size.x, size.y);
-        r.renderFrame(w_.frameIndex_, {"image", "visibility"});
+        std::set<std::string> requested = {"image", "visibility"};
+        if (!reads.internals.empty())
+            for (const std::string& name : r.internalRequests(false)) requested.insert(name);
+        // The refined frame complete: its outputs are renderFrame's (Renderer::refineFrame).
+        if (!frameComplete() || !reads.internals.empty()) r.renderFrame(w_.frameIndex_, requested);
         TaskBuffers b;
         b.visibility = r.visibility();
         b.ids = r.ids();
+        if (!reads.internals.empty()) b.internals = collectInternals(r, reads.internals);
+        if (reads.positions) b.positions = r.positions();
+        b.pick = w_.state_.pickedPixel;
         // The technique view showing a progressive reference: its complete visibility.
         if (w_.state_.technique == "raytraced") {
             w_.raytrace_.sync(*w_.scene_, w_.state_.camera, w_.state_.lights, size.x, size.y, w_.state_.time,
@@ -176,8 +192,32 @@ public:
         return b;
     }
 
+    // An expectation's variant: rendered at the technique view's size on a headless host of its own
+    // (the window's state, its progressive references and its picture are untouched); its
+    // reference, when it reads one, is rendered whole at once.
+    TaskBuffers readVariantBuffers(const LessonState& variant, const TaskReads& reads) override {
+        const glm::ivec2 size = w_.renderSize();
+        if (!variant_ || variant_->width() != size.x || variant_->height() != size.y) {
+            variant_ = std::make_unique<RendererLessonHost>(size.x, size.y);
+            variantState_.reset();
+        }
+        if (!variantState_ || *variantState_ != variant) applyLessonState(*variant_, variant);
+        variantState_ = variant;
+        return variant_->readTaskBuffers(reads);
+    }
+    unsigned long long shownVersion() const override { return w_.version_; }
+
 private:
+    // The technique's frame of what is shown now is complete (refined to the end, not a preview).
+    bool frameComplete() const {
+        const glm::ivec2 size = w_.renderSize();
+        const Renderer& r = *w_.renderer_;
+        return w_.imageComplete_ && !w_.reduced_ && w_.refineVersion_ == w_.version_ && w_.refineSize_ == size &&
+               r.width() == size.x && r.height() == size.y;
+    }
     Window& w_;
+    std::unique_ptr<RendererLessonHost> variant_;
+    std::optional<LessonState> variantState_;
     bool referenceShown_ = false, texelsShown_ = false;
     std::string referenceTechnique_ = "reference";
     std::vector<std::pair<std::string, std::string>> referenceParams_;
@@ -234,6 +274,23 @@ void Window::reportCheck() {
 // Each frame: a check that waited (the Check button, C or the script's `lesson check` while the
 // reference accumulated) runs once what it reads is complete, and prints as a check at once would.
 void Window::finishPendingCheck() {
+    if (lesson_ && lesson_->expectsPending()) {
+        // The step's claims, once what they read is complete: printed, and shown in the panel (a
+        // failing one is reported, never fatal).
+        if (lesson_->checkExpects()) {
+            const LessonStep& step = lesson_->step();
+            if (lesson_->expectStatus() == LessonPlayer::ExpectStatus::Changed)
+                std::printf("lesson: step %zu: expectations not checked: the step was changed before they were\n",
+                            lesson_->stepIndex() + 1);
+            for (size_t k = 0; k < lesson_->expectResults().size(); ++k) {
+                const LessonPlayer::ExpectResult& r = lesson_->expectResults()[k];
+                std::printf("lesson: step %zu: %s: expect %s: %s\n", lesson_->stepIndex() + 1, step.expects[k].where.str().c_str(),
+                            step.expects[k].condition.text().c_str(), r.passed ? "holds" : ("FAILS: " + r.failure).c_str());
+                if (!r.passed) setStatus(step.expects[k].where.str() + ": expect " + step.expects[k].condition.text() + ": " + r.failure, true);
+            }
+            std::fflush(stdout);
+        }
+    }
     if (!lesson_ || !lesson_->checkPending()) return;
     if (!lesson_->finishCheck()) {
         if (status_.rfind("checking: ", 0) == 0) status_ = lesson_->feedback().message;  // the progress so far

@@ -419,7 +419,7 @@ void Window::setReferenceRays(int rays) {
 
 bool Window::referenceNeeded() const {
     return state_.backgroundReference || state_.compare == WindowState::Compare::Reference || state_.errorView ||
-           (lesson_ && lesson_->checkPending());
+           (lesson_ && (lesson_->checkPending() || lesson_->expectsPending()));
 }
 
 void Window::syncReference(glm::ivec2 size) {

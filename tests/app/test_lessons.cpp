@@ -211,6 +211,104 @@ TEST(TaskCondition, StatisticsOverMasksAndBothWays) {
     EXPECT_NE(o.message.find("no pixel"), std::string::npos);
 }
 
+// ---- expectations: the grammar's refusals, two renders, internals, masks ---------------------------------
+TEST(LessonExpectFormat, BadGrammarUnknownBufferInternalOrVariantNamesFileAndLine) {
+    const std::string head = "# A lesson\n\n```shadowlab\nscene square-occluder\ntechnique sssm\n```\n\n## Step one\n\n";
+    auto expectLine = [&](const std::string& condition) { return head + "```shadowlab\nexpect " + condition + "\n```\n"; };
+    expectRefused(expectLine("mean(visibility) >> 0.5"), "lessons/bad.md:11: ", "expect");
+    expectRefused(expectLine("mean(visibility in penumbra > 0.5"), "lessons/bad.md:11: ", "expected ')'");
+    expectRefused(expectLine("mean(visibility) < mean(reference) -"), "lessons/bad.md:11: ", "expected a number");
+    expectRefused(expectLine("mean(shadows) > 0.5"), "lessons/bad.md:11: ", "unknown buffer 'shadows'");
+    expectRefused(expectLine("mean(visibility in shade) > 0.5"), "lessons/bad.md:11: ", "unknown mask 'shade'");
+    expectRefused(expectLine("mean(visibility in near(0 0, 1)) > 0.5"), "lessons/bad.md:11: ", "expected a number");
+    // Internals are validated against the step's technique descriptor: its names, channels, settings.
+    expectRefused(expectLine("mean(internal:reuse) > 0.5"), "lessons/bad.md:11: ", "unknown internal 'reuse' for technique sssm");
+    expectRefused(expectLine("mean(internal:reuse) > 0.5"), "lessons/bad.md:11: ", "reuse_step2");  // the names are listed
+    expectRefused(expectLine("max(internal:kernel_size.kernel_z) < 9"), "lessons/bad.md:11: ", "no channel 'kernel_z'");
+    expectRefused(expectLine("mean(internal:shadow_map_second_depth) > 0"), "lessons/bad.md:11: ", "second_depth == 1");
+    expectRefused(expectLine("mean(internal:light3/kernel_size) > 0"), "lessons/bad.md:11: ", "the scene has 1 light(s)");
+    expectRefused(expectLine("mean(internal:pixel) > 0"), "lessons/bad.md:11: ", "unknown internal 'pixel'");  // a record
+    expectRefused(expectLine("mean(diff(visibility, internal:kernel_size)) > 0"), "lessons/bad.md:11: ", "name one");
+    // Variants are validated like 'set'.
+    expectRefused(expectLine("mean(visibility[filtr=mean]) > 0"), "lessons/bad.md:11: ", "unknown parameter 'filtr'");
+    expectRefused(expectLine("mean(visibility[filter=box]) > 0"), "lessons/bad.md:11: ", "filter");
+    expectRefused(expectLine("mean(visibility[technique=nope]) > 0"), "lessons/bad.md:11: ", "unknown technique 'nope'");
+    expectRefused(expectLine("mean(visibility[light.size=-1]) > 0"), "lessons/bad.md:11: ", "light.size");
+    expectRefused(expectLine("mean(visibility[filter]) > 0"), "lessons/bad.md:11: ", "KEY=VALUE");
+    // The pick mask needs a pick; a task's check takes no variant; expect belongs to a step.
+    expectRefused(expectLine("mean(visibility in pick) > 0"), "lessons/bad.md:11: ", "picked pixel");
+    expectRefused(head + "```shadowlab\ntry Do it.\ncheck mean(visibility[filter=mean]) > 0.5\nanswer set alpha 1\n```\n",
+                  "lessons/bad.md:12: ", "a variant of the step");
+    expectRefused("# A\n\n```shadowlab\nscene square-occluder\nexpect mean(visibility) > 0\n```\n\n## One\n\nText.\n",
+                  "lessons/bad.md:5: ", "only allowed in a step");
+    // Through the command line: exit code 2, file and line.
+    const std::string path = tmp("bad-expect.md");
+    std::ofstream(path) << expectLine("mean(internal:reuse) > 0.5");
+    test::Result r = test::run("lesson " + path + " --check");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(path + ":11: expect: unknown internal 'reuse'"), std::string::npos) << r.output;
+}
+
+TEST(LessonExpectFormat, ConditionsCompareTwoRendersInternalsAndMasks) {
+    Lesson l = parseLesson(kHead.substr(0, kHead.find("technique pcf")) + "technique sssm\n```\n\n## Step one\n\n```shadowlab\n"
+                           "pick at 0 0 0.5\n"
+                           "expect mean(visibility in penumbra) < mean(reference in penumbra) - 0.2\n"
+                           "expect mean(diff(visibility, visibility[filter=mean]) in all) > 0.12\n"
+                           "expect max(internal:kernel_size) <= 9 and mean(internal:reuse_step2.fraction) > 0.5\n"
+                           "expect mean(visibility in pick) > 0.5 and mean(visibility in near(0 0 0, 0.5)) < 0.15\n"
+                           "expect mean(internal:shadow_map in lit) > 0\n"
+                           "```\n",
+                           "lessons/x.md", "x");
+    const std::vector<LessonExpect>& e = l.steps.at(0).expects;
+    ASSERT_EQ(e.size(), 5u);
+    EXPECT_EQ(e[0].where.line, 12);
+    EXPECT_EQ(e[1].condition.variants().size(), 1u);
+    EXPECT_EQ(e[1].condition.variants()[0].key, "filter=mean");
+    EXPECT_EQ(e[1].condition.variants()[0].state.params.getChoice("filter"), "mean");
+    EXPECT_EQ(e[2].condition.reads().internals, (std::set<std::string>{"kernel_size", "reuse_step2"}));
+    EXPECT_TRUE(e[3].condition.reads().positions);
+    // Four pixels: background, then three on the floor (id 0) at x = 0, 1, 2.
+    TaskBuffers b = strip({-1, 0, 0, 0}, {1.0f, 0.5f, 0.5f, 1.0f}, {1.0f, 0.1f, 0.2f, 1.0f});
+    b.pick = glm::ivec2(3, 0);
+    b.positions = Image(4, 1, 3);
+    for (int x = 0; x < 4; ++x) b.positions.at(x, 0, 0) = float(x - 1);
+    b.positions.at(0, 0, 0) = NAN;
+    // The technique is darker in the penumbra (mean 0.15) than the reference (0.5) by more than 0.2.
+    TaskCondition::Outcome o = e[0].condition.evaluate(b, {});
+    EXPECT_TRUE(o.passed) << o.message;
+    EXPECT_NEAR(o.values[0], 0.15, 1e-6);
+    EXPECT_NEAR(o.needs[0], 0.3, 1e-6);
+    // diff against the variant's render, pixel by pixel: |0.1-0.4|, |0.2-0.2|, |1-1| -> 0.1.
+    TaskBuffers mean = strip({-1, 0, 0, 0}, {1.0f, 1.0f, 1.0f, 1.0f}, {0.0f, 0.4f, 0.2f, 1.0f});
+    o = e[1].condition.evaluate(b, {mean});
+    EXPECT_NEAR(o.values[0], 0.1, 1e-6);
+    EXPECT_FALSE(o.passed) << "0.1 is not > 0.12";
+    EXPECT_EQ(e[1].condition.failures(o), "0.1");
+    // Internals: every channel without one named; the -1 markers do not count; a missing one says so.
+    Image kernels(4, 1, 2), reuse(4, 1, 1);
+    kernels.data = {50, 50, 3, 9, 5, 7, 1, 1};  // background's 50 does not count
+    reuse.data = {0.0f, 1.0f, -1.0f, 0.5f};
+    b.internals = {{"kernel_size", kernels}, {"reuse_step2", reuse}};
+    o = e[2].condition.evaluate(b, {});
+    EXPECT_TRUE(o.passed) << o.message;
+    EXPECT_EQ(o.values[0], 9.0);
+    EXPECT_NEAR(o.values[1], 0.75, 1e-6);
+    b.internals.erase("reuse_step2");
+    o = e[2].condition.evaluate(b, {});
+    EXPECT_FALSE(o.passed);
+    EXPECT_NE(o.message.find("internal 'reuse_step2' was not written"), std::string::npos) << o.message;
+    // pick: the picked pixel alone; near: within 0.5 of the origin (the pixel at x = 1).
+    o = e[3].condition.evaluate(b, {});
+    EXPECT_TRUE(o.passed) << o.message;
+    EXPECT_EQ(o.values[0], 1.0);
+    EXPECT_NEAR(o.values[1], 0.1, 1e-6);
+    // A light-space internal (another size than the image) takes no mask: said, not thrown.
+    b.internals["shadow_map"] = Image(8, 8, 1);
+    o = e[4].condition.evaluate(b, {});
+    EXPECT_FALSE(o.passed);
+    EXPECT_NE(o.message.find("light space"), std::string::npos) << o.message;
+}
+
 // ---- the player through a fake host ------------------------------------------------------------------
 namespace {
 
@@ -255,7 +353,10 @@ public:
     void pickPixel(const std::optional<LessonPick>& p) override { pick = p; }
     void setSplit(const std::string& against) override { split = against; }
     // The reference's minimum is 0 while the light is narrower than 2 (the square-occluder umbra).
-    TaskBuffers readTaskBuffers(bool) override {
+    TaskBuffers readVariantBuffers(const LessonState&, const TaskReads& reads) override { return readTaskBuffers(reads); }
+    unsigned long long version = 0;  // bumped by the "user" (changed())
+    unsigned long long shownVersion() const override { return version; }
+    TaskBuffers readTaskBuffers(const TaskReads&) override {
         ++taskReads;
         float umbra = lights.at(0).size < 2.0f ? 0.0f : 0.3f;
         return strip({0, 0}, {umbra, 1.0f}, {umbra, 1.0f});
@@ -393,6 +494,49 @@ TEST(LessonPlayer, ACheckWaitsForAHostThatIsNotReady) {
     EXPECT_TRUE(player.feedback().message.empty());
 }
 
+// A step's expectations: checked once the host is ready (the window's progressive reference), the
+// animation held until then; a change by the user before they ran is said, not measured.
+TEST(LessonPlayer, ExpectationsRunWhenTheHostIsReadyHoldTheAnimationAndNoticeAChange) {
+    struct SlowHost : FakeHost {
+        int ready = 0;  // calls until ready
+        bool taskBuffersReady(bool withReference, std::string& waiting) override {
+            EXPECT_TRUE(withReference);
+            if (ready-- > 0) {
+                waiting = "the reference: 3 of 8 samples";
+                return false;
+            }
+            return true;
+        }
+    } host;
+    const std::string text =
+        "# E\n\n```shadowlab\nscene square-occluder\ntechnique hard\n```\n\n## One\n\n```shadowlab\nlight size 1\n"
+        "animate light.size 1 1.5 2\nexpect min(reference) < 0.01\nexpect min(reference) >= 0.01\n```\n\nText.\n\n"
+        "## Two\n\n```shadowlab\nlight size 3\n```\n\nNo claims.\n";
+    host.ready = 1;
+    LessonPlayer player(parseLesson(text, "lessons/e.md", "e"), host);
+    EXPECT_TRUE(player.expectsPending());
+    player.update(1.0);  // the claims are of the step's own state: the animation waits for them
+    EXPECT_FLOAT_EQ(host.lights[0].size, 1.0f);
+    EXPECT_FALSE(player.checkExpects());
+    EXPECT_EQ(player.expectWaiting(), "the reference: 3 of 8 samples");
+    EXPECT_TRUE(player.checkExpects());
+    EXPECT_EQ(player.expectStatus(), LessonPlayer::ExpectStatus::Checked);
+    ASSERT_EQ(player.expectResults().size(), 2u);
+    EXPECT_TRUE(player.expectResults()[0].passed) << player.expectResults()[0].message;
+    EXPECT_FALSE(player.expectResults()[1].passed);
+    EXPECT_EQ(player.expectResults()[1].failure, "0");
+    player.update(1.0);
+    EXPECT_FLOAT_EQ(host.lights[0].size, 1.25f);
+    player.restore();
+    EXPECT_TRUE(player.expectsPending());
+    ++host.version;  // the student moves a slider before the claims ran
+    EXPECT_TRUE(player.checkExpects());
+    EXPECT_EQ(player.expectStatus(), LessonPlayer::ExpectStatus::Changed);
+    EXPECT_TRUE(player.expectResults().empty());
+    player.next();
+    EXPECT_EQ(player.expectStatus(), LessonPlayer::ExpectStatus::None);
+}
+
 TEST(LessonPlayer, AnimationSweepsTheValueBackAndForth) {
     FakeHost host;
     LessonPlayer player(parseLesson(kTaskLesson, "lessons/t.md", "t"), host);
@@ -518,7 +662,9 @@ namespace {
 void renderHeadless(const std::string& id) {
     std::string out = tmp("handout");
     fs::remove_all(out);
-    test::Result r = test::run("lesson " + id + " --headless --out " + out + " --size 192x192");
+    // The handout's own size: a lesson's claims hold where it is shown (320x320 and the window's
+    // 1024x768, LessonCheck below), not at every size (SSSM's screen kernels are in pixels).
+    test::Result r = test::run("lesson " + id + " --headless --out " + out + " --size 320x320");
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_NE(r.output.find(out + "/index.html"), std::string::npos) << "prints the page's path: " << r.output;
     std::ifstream in(out + "/lesson.json");
@@ -537,12 +683,12 @@ void renderHeadless(const std::string& id) {
             EXPECT_TRUE(fs::exists(out + "/" + f.get<std::string>())) << f;
             EXPECT_NE(html.str().find(f.get<std::string>()), std::string::npos) << f << " is on the page";
         }
-        // Every picture is a real render: the technique view is 192x192 and not one flat colour.
+        // Every picture is a real render: the technique view is 320x320 and not one flat colour.
         int w = 0, h = 0, c = 0;
         unsigned char* px = stbi_load((out + "/" + s["images"][0].get<std::string>()).c_str(), &w, &h, &c, 1);
         ASSERT_NE(px, nullptr);
-        EXPECT_EQ(w, 192);
-        EXPECT_EQ(h, 192);
+        EXPECT_EQ(w, 320);
+        EXPECT_EQ(h, 320);
         double sum = 0, sum2 = 0;
         for (int i = 0; i < w * h; ++i) sum += px[i], sum2 += double(px[i]) * px[i];
         stbi_image_free(px);
@@ -668,4 +814,136 @@ TEST(LessonCheck, SizesAreForCheckAndTrailingSlashIsAFolder) {
     test::Result r = test::run("lesson intro --headless --size 96x96 --out " + out);
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_TRUE(fs::exists(out + "index.html"));
+}
+
+// ---- expectations rendered: a false one fails with file, line, size and the value found ------------------
+namespace {
+const std::string kFalseExpect =
+    "# Claims\n\n```shadowlab\nscene square-occluder\ntechnique pcf\nreference reference samples=16 sm_size=256\n```\n\n"
+    "## One\n\n```shadowlab\nlight size 1\nexpect mean(visibility) > 0.5\nexpect mean(visibility in umbra) > 0.5\n"
+    "expect mean(error in penumbra) < mean(error[pcf_kernel=1] in penumbra)\n```\n\nThe floor is mostly lit; the umbra is lit too (false).\n";
+}  // namespace
+
+class LessonExpectTest : public shadowlab::testing::GLTest {};
+
+TEST_F(LessonExpectTest, AFalseExpectFailsWithFileLineSizeAndTheValueFound) {
+    Lesson lesson = parseLesson(kFalseExpect, "lessons/claims.md", "claims");
+    ASSERT_EQ(lesson.steps[0].expects.size(), 3u);
+    std::string message;
+    try {
+        renderLessonHeadless(lesson, "", 64, 48);
+    } catch (const LessonCheckError& e) {
+        message = e.what();
+    }
+    // Only the false claim, on its own line: file:line at WxH: expect TEXT: value.
+    EXPECT_EQ(message.rfind("lessons/claims.md:14 at 64x48: expect mean(visibility in umbra) > 0.5: ", 0), 0u) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "the two true claims are not reported: " << message;
+    const double value = std::stod(message.substr(message.rfind(": ") + 2));
+    EXPECT_LT(value, 0.5) << message;
+    EXPECT_GE(value, 0.0) << message;
+}
+
+TEST(LessonExpectCli, AFalseExpectIsExitCode2AtEverySizeAndWritesNothing) {
+    const std::string path = tmp("claims.md");
+    std::ofstream(path) << kFalseExpect;
+    test::Result r = test::run("lesson " + path + " --check --sizes 64x48,40x40");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(path + ":14 at 64x48: expect mean(visibility in umbra) > 0.5: "), std::string::npos) << r.output;
+    const std::string out = tmp("claims-handout");
+    fs::remove_all(out);
+    r = test::run("lesson " + path + " --headless --size 64x48 --out " + out);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(path + ":14 at 64x48: expect mean(visibility in umbra) > 0.5: "), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out + "/index.html")) << "nothing half-written";
+    // Without the false claim it passes, and --check --sizes writes nothing.
+    std::string fixed = kFalseExpect;
+    fixed.erase(fixed.find("expect mean(visibility in umbra)"), std::string("expect mean(visibility in umbra) > 0.5\n").size());
+    std::ofstream(path) << fixed;
+    r = test::run("lesson " + path + " --check --sizes 64x48,40x40");
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("64x48: 1 steps rendered, 2 expectation(s) holding"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("40x40: 1 steps rendered, 2 expectation(s) holding"), std::string::npos) << r.output;
+}
+
+// ---- the handout: native-size pictures beside the narration, measured claims, a print stylesheet -----------
+TEST(LessonHandout, PicturesAtTheirNativeSizeClaimsMeasuredAndAPrintStylesheet) {
+    const std::string path = tmp("claims-ok.md");
+    std::string text = kFalseExpect;
+    text.erase(text.find("expect mean(visibility in umbra)"), std::string("expect mean(visibility in umbra) > 0.5\n").size());
+    text.replace(text.find("light size 1\n"), 13, "light size 1\nshow error\n");
+    std::ofstream(path) << text;
+    const std::string out = tmp("claims-ok-handout");
+    fs::remove_all(out);
+    test::Result r = test::run("lesson " + path + " --headless --size 96x72 --out " + out);
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::stringstream html;
+    html << std::ifstream(out + "/index.html").rdbuf();
+    const std::string page = html.str();
+    // Print or project: one step per page.
+    EXPECT_NE(page.find("@media print{"), std::string::npos);
+    EXPECT_NE(page.find(".step{page-break-before:always;break-before:page"), std::string::npos);
+    // Two columns that wrap: the pictures, then the narration.
+    EXPECT_NE(page.find(".columns{display:flex;flex-wrap:wrap"), std::string::npos);
+    EXPECT_LT(page.find("<div class=\"pictures\">"), page.find("<div class=\"narration\">"));
+    EXPECT_EQ(page.find("max-width:100%"), std::string::npos) << "no stylesheet scales a picture down";
+    // Every <img> carries the PNG's own width and height.
+    size_t images = 0;
+    for (size_t at = page.find("<img src=\""); at != std::string::npos; at = page.find("<img src=\"", at + 1)) {
+        const size_t q = page.find('"', at + 10);
+        const std::string file = page.substr(at + 10, q - at - 10);
+        int w = 0, h = 0, c = 0;
+        ASSERT_TRUE(stbi_info((out + "/" + file).c_str(), &w, &h, &c)) << file;
+        const std::string tag = page.substr(at, page.find('>', at) - at);
+        EXPECT_NE(tag.find("width=\"" + std::to_string(w) + "\" height=\"" + std::to_string(h) + "\""), std::string::npos)
+            << file << " is " << w << "x" << h << ": " << tag;
+        ++images;
+    }
+    EXPECT_EQ(images, 2u) << "the technique view and the error view (480x360, not the technique's 96x72)";
+    // Each claim with its measured value, under the pictures and in lesson.json.
+    const size_t claims = page.find("<ul class=\"expects\">");
+    ASSERT_NE(claims, std::string::npos);
+    EXPECT_LT(claims, page.find("<div class=\"narration\">"));
+    const size_t measured = page.find("<code>expect mean(visibility) &gt; 0.5</code><br>measured: <code>0.");
+    ASSERT_NE(measured, std::string::npos) << page.substr(claims, 400);
+    EXPECT_GT(std::stod(page.substr(page.find("<code>0.", measured + 10) + 6)), 0.5);
+    EXPECT_NE(page.find("(needs &gt; 0.5)</code>", measured), std::string::npos);
+    std::ifstream in(out + "/lesson.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    const nlohmann::json& expects = j["steps"][0]["expects"];
+    ASSERT_EQ(expects.size(), 2u);
+    EXPECT_EQ(expects[0]["line"], 14);  // after the inserted "show error"
+    EXPECT_EQ(expects[0]["expect"], "mean(visibility) > 0.5");
+    EXPECT_TRUE(expects[0]["passed"].get<bool>());
+    EXPECT_GT(expects[0]["values"][0].get<double>(), 0.5);
+    EXPECT_EQ(expects[1]["expect"], "mean(error in penumbra) < mean(error[pcf_kernel=1] in penumbra)");
+}
+
+// ---- links: a handout links to relative paths, #anchors, http and https only --------------------------------
+TEST(LessonLinks, RefusedSchemesNameTheFileAndLine) {
+    const std::string head = "# A lesson\n\n```shadowlab\nscene square-occluder\n```\n\n## Step one\n\n";
+    for (const std::string& url : {"javascript:alert(1)", "JavaScript:alert(1)", "data:text/html;base64,PHNjcmlwdD4=",
+                                   "vbscript:msgbox", "file:///etc/passwd", "mailto:a@b.c", "ftp://host/x", "//evil.example/x",
+                                   "java\tscript:x", "/\\evil.example"}) {
+        SCOPED_TRACE(url);
+        expectRefused(head + "Some text and a [link](" + url + ") in it.\n", "lessons/bad.md:9: ", "refused");
+    }
+    // Where the link is: a paragraph's second line, a list item, a heading, the introduction, a task.
+    expectRefused(head + "First line,\nthen a [link](javascript:x).\n", "lessons/bad.md:10: ", "'javascript:'");
+    expectRefused(head + "- one\n- a [link](data:x)\n", "lessons/bad.md:10: ", "'data:'");
+    expectRefused(head + "### A [heading](file:x)\n", "lessons/bad.md:9: ", "'file:'");
+    expectRefused("# A lesson\n\nSee [this](vbscript:x).\n\n```shadowlab\nscene square-occluder\n```\n\n## One\n\nText.\n",
+                  "lessons/bad.md:3: ", "'vbscript:'");
+    expectRefused(head + "```shadowlab\ntry Read [this](javascript:x).\ncheck min(reference) >= 0.01\nanswer light size 3\n```\n",
+                  "lessons/bad.md:10: ", "'javascript:'");
+    // What is allowed; a link inside `code` is no link.
+    for (const std::string& url : {"https://example.org/x?y=1#z", "http://example.org", "../docs/lessons/intro/index.html",
+                                   "#step-2", "intro.md", "figures/a.png?v=1"})
+        EXPECT_EQ(refusal(head + "A [link](" + url + ").\n"), "") << url;
+    EXPECT_EQ(refusal(head + "Not a link: `[x](javascript:y)`.\n"), "");
+    // The command line: exit code 2 with the file and line.
+    const std::string path = tmp("bad-link.md");
+    std::ofstream(path) << head << "A [link](javascript:alert(1)).\n";
+    test::Result r = test::run("lesson " + path + " --check");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(path + ":9: link 'javascript:alert(1' refused"), std::string::npos) << r.output;
 }

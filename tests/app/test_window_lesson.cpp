@@ -103,7 +103,7 @@ void checkBackprojectionStep3(bool waitFirst) {
         r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     }
     ASSERT_EQ(r.code, 0) << r.output;
-    const std::string key = "lesson: step 3: passed: mean(error in penumbra) < 0.058: ";
+    const std::string key = "lesson: step 3: passed: mean(error in penumbra) < 0.05: ";
     const size_t at = r.output.find(key);
     ASSERT_NE(at, std::string::npos) << r.output;
     const double window = std::stod(r.output.substr(at + key.size()));
@@ -148,6 +148,36 @@ void checkBackprojectionStep3(bool waitFirst) {
 
 TEST(WindowLesson, TaskCheckedInTheWindowEqualsTheHeadlessCheck) { checkBackprojectionStep3(true); }
 TEST(WindowLesson, ACheckWaitsForTheReferenceWithoutFreezingTheWindow) { checkBackprojectionStep3(false); }
+
+// A step's claims in the window: checked when the step is entered, once the progressive reference
+// is complete, printed with their values and kept in the panel; a false one is shown, not fatal
+// (the window goes on and exits 0); a variant renders aside, and the window's picture stays the step's.
+TEST(WindowLesson, ExpectationsAreCheckedWhenAStepIsEnteredAndAFalseOneIsShownNotFatal) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    const std::string lesson = tmp("claims.md"), script = tmp("claims.txt"), before = tmp("claims-a.pfm"),
+                      after = tmp("claims-b.pfm");
+    for (const std::string& f : {before, after}) fs::remove(f);
+    std::ofstream(lesson) << "# Claims\n\n```shadowlab\nscene square-occluder\ntechnique pcf\n"
+                             "reference reference samples=16 sm_size=256\n```\n\n"
+                             "## One\n\n```shadowlab\nlight size 1\n"
+                             "expect mean(visibility) > 0.5\n"                                       // line 13: holds
+                             "expect mean(visibility in umbra) > 0.5\n"                              // line 14: false
+                             "expect mean(error) < mean(error[pcf_kernel=1]) + 0.5\n```\n\n"         // line 15: a variant
+                             "Text.\n\n## Two\n\n```shadowlab\nlight size 2\n```\n\nNo claims.\n";
+    std::ofstream(script) << "panel off\nbackground off\nwait 1\nsave-visibility " << before << "\nwait 2\nsave-visibility " << after
+                          << "\nlesson next\nwait 1\n";
+    auto r = runXvfb("window --lesson " + lesson + " --size 320x240 --script " + script);
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("lesson: step 1: " + lesson + ":13: expect mean(visibility) > 0.5: holds"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("lesson: step 1: " + lesson + ":14: expect mean(visibility in umbra) > 0.5: FAILS: "), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("lesson: step 1: " + lesson + ":15: expect mean(error) < mean(error[pcf_kernel=1]) + 0.5: holds"),
+              std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("lesson: step 2: "), std::string::npos) << "step 2 has no claims: " << r.output;
+    const Image a = shadowlab::readPFM(before), b = shadowlab::readPFM(after);
+    EXPECT_TRUE(identical(a, b)) << "the window's visibility stays the step's own after the claims ran";
+    EXPECT_GT(a.width, 0);
+}
 
 TEST(WindowLesson, BadLessonIsRefusedWithFileAndLineBeforeTheWindowOpens) {
     std::string bad = tmp("bad.md");
