@@ -11,6 +11,7 @@ const TechniqueDesc& ssmGbp06Technique();
 const TechniqueDesc& ssmContourTechnique();
 const TechniqueDesc& referenceTechnique();
 const TechniqueDesc& raytracedTechnique();
+const TechniqueDesc& ssvTechnique();
 
 const std::vector<const TechniqueDesc*>& allTechniques() {
     static const std::vector<const TechniqueDesc*> all = {
@@ -20,6 +21,7 @@ const std::vector<const TechniqueDesc*>& allTechniques() {
         &sssmTechnique(),
         &ssmGbp06Technique(),
         &ssmContourTechnique(),
+        &ssvTechnique(),
         &referenceTechnique(),
         &raytracedTechnique(),
     };

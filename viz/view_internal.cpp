@@ -171,8 +171,12 @@ void build(ViewContext& ctx, ViewResult& result) {
             auto [lo, hi] = finiteRange(levels[0], c);
             ranges.push_back({lo, hi});
             double x0 = double(c) / channels, x1 = double(c + 1) / channels;
-            addImagePanelWithBar(ctx.out, images[0], names[size_t(c)], sequentialLut(lo, hi), name + "." + names[size_t(c)],
-                                 names[size_t(c)], x0, strip, x1, 1.0);
+            // A signed internal (negative values are data, not markers) on the diverging palette,
+            // symmetric about 0.
+            const double maxAbs = std::max({1e-6, double(std::fabs(lo)), double(std::fabs(hi))});
+            addImagePanelWithBar(ctx.out, images[0], names[size_t(c)],
+                                 desc.signedValues ? divergingLut(maxAbs) : sequentialLut(lo, hi),
+                                 name + "." + names[size_t(c)], names[size_t(c)], x0, strip, x1, 1.0);
         }
         data["ranges"] = ranges;
     }

@@ -733,6 +733,7 @@ void TaskCondition::bind(const LessonState& step) {
                     throw InputError(at + "internal '" + name + "' of " + desc.id + " is written only when " +
                                      internal->appliesWhen + ", not in this step");
                 b.channelIndex = -1;
+                b.signedValues = internal->signedValues;
                 if (!b.channel.empty()) {
                     auto c = std::find(internal->channels.begin(), internal->channels.end(), b.channel);
                     if (c == internal->channels.end())
@@ -801,7 +802,8 @@ double TaskCondition::statistic(const Stat& s, const TaskBuffers& step, const st
     };
     // An internal's value counts when finite and not negative (the techniques' -1: no receiver, no
     // blocker, the step did not run).
-    auto usable = [](float v) { return std::isfinite(v) && v >= 0.0f; };
+    // (An internal declared signedValues counts its negative values too: they are data.)
+    auto usableIn = [](const Source& src, float v) { return std::isfinite(v) && (v >= 0.0f || src.b->signedValues); };
     if (!sources[0].frame || (sources.size() == 2 && !sources[1].frame)) {
         const Source& src = sources[0];
         const Source& other = src.frame ? sources[1] : src;
@@ -820,7 +822,7 @@ double TaskCondition::statistic(const Stat& s, const TaskBuffers& step, const st
         const Image& img = *src.internal;
         for (size_t p = 0; p < img.pixelCount(); ++p)
             for (int c = 0; c < img.channels; ++c)
-                if ((src.b->channelIndex < 0 || c == src.b->channelIndex) && usable(img.data[p * size_t(img.channels) + size_t(c)]))
+                if ((src.b->channelIndex < 0 || c == src.b->channelIndex) && usableIn(src, img.data[p * size_t(img.channels) + size_t(c)]))
                     add(img.data[p * size_t(img.channels) + size_t(c)]);
     } else {
         std::vector<int> objectIds;  // object:N masks as ids (-1 for the others)
@@ -866,12 +868,12 @@ double TaskCondition::statistic(const Stat& s, const TaskBuffers& step, const st
                     const Image& img = *src.internal;
                     if (src.b->channelIndex < 0 && sources.size() == 1) {
                         for (int c = 0; c < img.channels; ++c)
-                            if (usable(img.data[p * size_t(img.channels) + size_t(c)])) add(img.data[p * size_t(img.channels) + size_t(c)]);
+                            if (usableIn(src, img.data[p * size_t(img.channels) + size_t(c)])) add(img.data[p * size_t(img.channels) + size_t(c)]);
                         ok = false;  // added channel by channel
                         break;
                     }
                     float v = img.data[p * size_t(img.channels) + size_t(std::max(src.b->channelIndex, 0))];
-                    ok = usable(v);
+                    ok = usableIn(src, v);
                     values[k] = v;
                 } else {
                     values[k] = name == "visibility" ? src.r->visibility.data[p]

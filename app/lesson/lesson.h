@@ -164,6 +164,7 @@ public:
         std::string internal;          // internal: the collector's key ("kernel_size", "light1/kernel_size")
         std::string channel;           // internal: "" = every channel
         int channelIndex = -1;         // bound: the channel's index (-1 = every channel)
+        bool signedValues = false;     // bound: the internal's negative values count (InternalDesc::signedValues)
         int variant = -1;              // index into variants(), -1 = the step's own render
         std::string variantKey;
         std::vector<std::pair<std::string, std::string>> changes;

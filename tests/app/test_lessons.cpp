@@ -158,7 +158,7 @@ TEST(LessonState, AnswerStateIsTheStepStatePlusTheAnswer) {
 }
 
 TEST(LessonState, BothLessonsLoadWithTasks) {
-    for (const std::string& id : {"intro", "shadow-mapping", "pcss-sssm", "backprojection"}) {
+    for (const std::string& id : {"intro", "shadow-mapping", "pcss-sssm", "backprojection", "soft-shadow-volumes"}) {
         Lesson l = loadLesson(id);
         EXPECT_EQ(l.file, "lessons/" + id + ".md");
         EXPECT_GE(l.steps.size(), 6u) << id;
@@ -712,8 +712,10 @@ TEST(LessonHeadless, IntroRendersEveryStepWithTasksCheckedBothWays) { renderHead
 TEST(LessonHeadless, ShadowMappingRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("shadow-mapping"); }
 TEST(LessonHeadless, PcssSssmRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("pcss-sssm"); }
 TEST(LessonHeadless, BackprojectionRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("backprojection"); }
+TEST(LessonHeadless, SoftShadowVolumesRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("soft-shadow-volumes"); }
 TEST(LessonHeadless, EveryLessonHasAHeadlessTest) {
-    EXPECT_EQ(listLessons(), (std::vector<std::string>{"backprojection", "intro", "pcss-sssm", "shadow-mapping"}))
+    EXPECT_EQ(listLessons(),
+              (std::vector<std::string>{"backprojection", "intro", "pcss-sssm", "shadow-mapping", "soft-shadow-volumes"}))
         << "a new lesson needs its own LessonHeadless test above";
 }
 
@@ -805,6 +807,7 @@ TEST(LessonCheck, IntroAt320And1024) { checkAtTwoSizes("intro"); }
 TEST(LessonCheck, ShadowMappingAt320And1024) { checkAtTwoSizes("shadow-mapping"); }
 TEST(LessonCheck, PcssSssmAt320And1024) { checkAtTwoSizes("pcss-sssm"); }
 TEST(LessonCheck, BackprojectionAt320And1024) { checkAtTwoSizes("backprojection"); }
+TEST(LessonCheck, SoftShadowVolumesAt320And1024) { checkAtTwoSizes("soft-shadow-volumes"); }
 TEST(LessonCheck, SizesAreForCheckAndTrailingSlashIsAFolder) {
     EXPECT_EQ(test::run("lesson intro --sizes 320x320").code, 2);
     EXPECT_EQ(test::run("lesson intro --check --sizes 320x").code, 2);

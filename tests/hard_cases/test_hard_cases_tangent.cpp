@@ -58,7 +58,7 @@ class HardCaseTangent : public testing::GLTest {};
 // plane: 1024 (or 256) stratified samples on a 32 x 32 (16 x 16) grid, whose column boundary falls
 // exactly on x = -0.25, so they give 0.75, up to one sample of the boundary column whose jitter
 // puts it within rounding of the plane (1/256). The
-// filtering and back-projection techniques multiply by the exact fraction and find no occluder:
+// filtering, back-projection and shadow-volume techniques multiply by the exact fraction and find no occluder:
 // 0.75 to rounding. `hard` and `pcf` test the light centre (x = 0 > -0.25): 1 on wall A.
 TEST_F(HardCaseTangent, TangentPlaneCutsTheLightOrHidesIt) {
     const Scene scene = loadScene(writeScene("tangent", "walls", kWalls));
@@ -67,7 +67,8 @@ TEST_F(HardCaseTangent, TangentPlaneCutsTheLightOrHidesIt) {
         double wallA;
     };
     for (Expect e : {Expect{"reference", 0.75}, Expect{"raytraced", 0.75}, Expect{"pcss", 0.75}, Expect{"sssm", 0.75},
-                     Expect{"ssm-gbp06", 0.75}, Expect{"ssm-contour", 0.75}, Expect{"hard", 1.0}, Expect{"pcf", 1.0}}) {
+                     Expect{"ssm-gbp06", 0.75}, Expect{"ssm-contour", 0.75}, Expect{"ssv", 0.75}, Expect{"hard", 1.0},
+                     Expect{"pcf", 1.0}}) {
         SCOPED_TRACE(e.technique);
         const Render r = render(scene, e.technique, {}, {}, 64);
         expectInvariants(r, e.technique);
@@ -134,7 +135,7 @@ TEST_F(HardCaseTangent, SphereTerminator) {
                 bandDiff / double(band), band);
     EXPECT_LT(bandDiff / double(band), 0.02);
     EXPECT_GT(worstCos, std::cos(glm::radians(5.4f))) << "a facet normal further from the sphere's than half a facet";
-    for (const char* t : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "reference", "raytraced"}) {
+    for (const char* t : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "ssv", "reference", "raytraced"}) {
         SCOPED_TRACE(t);
         const Render r = std::string(t) == "reference" ? ref : std::string(t) == "raytraced" ? ray : render(scene, t, {}, {}, 64);
         expectInvariants(r, t);

@@ -298,6 +298,7 @@ nlohmann::json describeTechnique(const TechniqueDesc& desc) {
         nlohmann::json ij{{"name", i.name}, {"kind", internalKindName(i.kind)}, {"doc", i.doc}};
         if (!i.resource.empty()) ij["resource"] = i.resource;
         if (!i.channels.empty()) ij["channels"] = i.channels;
+        if (i.signedValues) ij["signed"] = true;
         if (!i.appliesWhen.empty()) ij["applies_when"] = i.appliesWhen;
         if (!i.schema.empty()) {
             nlohmann::json schema = nlohmann::json::object();

@@ -107,6 +107,9 @@ struct InternalDesc {
     std::vector<std::string> channels;  // names of the channels ("depth"; "min", "max"; "value", "weight")
     std::string doc;
     std::string appliesWhen;  // "" = always
+    // Image/Pyramid: its negative values are data (a signed sum, ssv's wedge coverage), not the
+    // "none" markers (-1: no receiver, no blocker) that statistics over internals skip.
+    bool signedValues = false;
     // Image/Pyramid: turns raw texels into exported values (e.g. the far-plane marker into +inf).
     std::function<void(Image&)> convert;
     // Record: the per-pixel record of --pixel, a fixed schema (field -> one-line doc) and the function
