@@ -11,6 +11,9 @@
 //    edge through or ending on the centre covers half the light, on the side radialSweep's perturbed
 //    centre decides. When the centre is occluded the whole light is one more red cell, the initial
 //    area (Fig. 5b).
+//  - ssv: the same regions for the silhouette edges whose penumbra wedge holds the point (the
+//    record's projected edges, weight w drawn w times), and one whole light per hard shadow volume
+//    holding it (the initial area, hard_count x light area). Split 2 (four lights) is refused.
 //  - ssm-gbp06: each occluding sample is its quad (after gap filling) clipped to the light: the
 //    square's box or, for a disk, the quad's intersection with the disk (the record's `area` is
 //    rectOccludedArea, the clipped area).
@@ -279,6 +282,13 @@ void build(ViewContext& ctx, ViewResult& result) {
     const double initial = rec.value("initial_area", 0.0);
     const nlohmann::json items = rec.value(list, nlohmann::json::array());
     const bool edges = list == "edges";
+    // ssv's record (soft shadow volumes): the initial area is the hard count times the light, each
+    // edge's area its weight (1, or 2 for an open mesh's interior silhouette) times its region.
+    const bool volumes = rec.contains("hard_count");
+    if (rec.contains("sub_lights") && rec["sub_lights"].size() > 1)
+        throw InputError("view backprojection: " + where + ": the light is split into " +
+                         std::to_string(rec["sub_lights"].size()) +
+                         " quarters (split 2), each with its own light square; the view draws one light (split 1)");
 
     // The regions: one polygon cell each, the initial light first.
     struct Cell {
@@ -287,7 +297,9 @@ void build(ViewContext& ctx, ViewResult& result) {
         int kind, item;
     };
     std::vector<Cell> cells;
-    if (initial > 0.0) cells.push_back({lightPolygon(shape), initial, 0, -1});
+    // The initial area as whole lights (ssv: one per hard shadow volume containing the point).
+    const int initialLights = initial > 0.0 ? std::max(1, int(std::lround(initial / lightArea))) : 0;
+    for (int k = 0; k < initialLights; ++k) cells.push_back({lightPolygon(shape), initial / initialLights, 0, -1});
     double sum = 0.0, added = 0.0, removed = 0.0;
     std::vector<std::pair<glm::vec3, glm::vec3>> edgeLines, clippedLines;
     for (size_t i = 0; i < items.size(); ++i) {
@@ -300,7 +312,8 @@ void build(ViewContext& ctx, ViewResult& result) {
             Polygon p = edgeRegion(shape, a, b);
             edgeLines.push_back({glm::vec3(a, 0.03f), glm::vec3(b, 0.03f)});
             if (p.size() >= 2) clippedLines.push_back({glm::vec3(p[0], 0.04f), glm::vec3(p[1], 0.04f)});
-            cells.push_back({std::move(p), area, 1, int(i)});
+            const int weight = std::max(1, int(std::lround(it.value("weight", 1.0))));
+            for (int k = 0; k < weight; ++k) cells.push_back({p, area / weight, 1, int(i)});
         } else {
             const auto& q = it.at("quad");
             cells.push_back({quadRegion(shape, glm::vec4(q[0].get<float>(), q[1].get<float>(), q[2].get<float>(), q[3].get<float>())),
@@ -308,6 +321,19 @@ void build(ViewContext& ctx, ViewResult& result) {
         }
     }
 
+    // A region with fewer than three corners (an edge that only touches the light: a point or a
+    // segment of its border) has no area; it is not drawn (its recorded area is 0 within rounding).
+    size_t degenerate = 0;
+    for (size_t c = 0; c < cells.size();)
+        if (cells[c].polygon.size() < 3) {
+            if (std::abs(cells[c].area) > 1e-5)
+                throw InternalError("view backprojection: " + where + ": item " + std::to_string(cells[c].item) +
+                                    " has area " + std::to_string(cells[c].area) + " but no region on the light");
+            cells.erase(cells.begin() + std::ptrdiff_t(c));
+            ++degenerate;
+        } else {
+            ++c;
+        }
     auto poly = vtkSmartPointer<vtkPolyData>::New();
     vtkNew<vtkPoints> points;
     vtkNew<vtkCellArray> polys;
@@ -380,8 +406,14 @@ void build(ViewContext& ctx, ViewResult& result) {
     const double visible = unoccluded * front;
     const double gpu = rec.value("visibility", std::nan(""));
 
-    std::string caption = "backprojection  " + where + ", " + rec.value("classification", "") + "\n";
-    if (edges)
+    const std::string classification = rec.value("classification", "");
+    std::string caption = "backprojection  " + where + (classification.empty() ? "" : ", " + classification) + "\n";
+    if (volumes)
+        caption += std::to_string(items.size()) + " silhouette edges whose wedge holds the point, the light beyond each: +" +
+                   formatNumber(added) + " (red, cw) " + formatNumber(removed) + " (blue, ccw)\ninitial " +
+                   formatNumber(initial) + " (" + std::to_string(initialLights) +
+                   " hard shadow volume(s) hold the point: a whole light each, red); right: their net count\n";
+    else if (edges)
         caption += std::to_string(items.size()) + " contour edges, the light beyond each: +" + formatNumber(added) +
                    " (red, cw) " + formatNumber(removed) + " (blue, ccw)\ninitial " + formatNumber(initial) +
                    (initial > 0.0 ? " (centre occluded: the whole light, red)" : " (centre visible)") +
@@ -406,6 +438,7 @@ void build(ViewContext& ctx, ViewResult& result) {
                    {"visible_fraction", visible},        // their product: the technique's visibility
                    {"visibility", gpu},
                    {"cells", poly->GetNumberOfCells()},
+                   {"degenerate_regions", degenerate},  // items touching the light in a point or a segment: not drawn
                    {"drawn_area", drawnSum},               // the cells' shoelace areas, summed
                    {"max_cell_area_error", maxAreaError},  // |shoelace - record| over the cells
                    {"coverage_area", rasterArea}};         // the right panel's net count, integrated (256^2 texels)
@@ -516,7 +549,7 @@ const ViewDesc& backprojectionView() {
                      "the light beyond it in its wedge (red adds, blue removes) or each sample's quad clipped to the "
                      "light, and beside them their net count over the light; the visible fraction";
         d.info.appliesTo = "techniques whose per-pixel record lists back-projected 'samples' or 'edges' "
-                           "(ssm-gbp06, ssm-contour); needs --pixel";
+                           "(ssm-gbp06, ssm-contour, ssv with split 1); needs --pixel";
         d.info.exportExtension = ".vtp";
         d.refusal = refusal;
         d.build = build;

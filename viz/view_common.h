@@ -19,6 +19,7 @@
 #include "views.h"
 #include "vtk_offscreen.h"
 
+class vtkActor;
 class vtkImageData;
 class vtkPolyData;
 class vtkRenderer;
@@ -151,6 +152,14 @@ std::pair<float, float> addPyramidStack(VtkOffscreen& out, const std::vector<Ima
 // Lines (pairs of points) as a 2D-overlay actor in world coordinates of an image panel, z above it.
 vtkSmartPointer<vtkActor> lineActor(const std::vector<std::pair<glm::vec3, glm::vec3>>& lines, glm::vec3 rgb,
                                     float width);
+
+// World-space triangles of the scene's objects at time t (casters only when castersOnly), each
+// with its object's index.
+struct WorldTriangle {
+    glm::vec3 a, b, c;
+    int object;
+};
+std::vector<WorldTriangle> worldTriangles(const Scene& scene, double t, bool castersOnly);
 
 // Writers (XML, binary appended): .vtp / .vti. Throw InternalError when VTK cannot write.
 void writePolyData(vtkPolyData* data, const std::string& path);

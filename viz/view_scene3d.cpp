@@ -99,26 +99,6 @@ struct PartBuilder {
     }
 };
 
-// World-space triangles of the objects at time t (casters only when castersOnly).
-struct WorldTriangle {
-    glm::vec3 a, b, c;
-    int object;
-};
-std::vector<WorldTriangle> worldTriangles(const Scene& scene, double t, bool castersOnly) {
-    std::vector<WorldTriangle> out;
-    for (size_t o = 0; o < scene.objects.size(); ++o) {
-        const Object& obj = scene.objects[o];
-        if (castersOnly && !obj.castsShadows) continue;
-        glm::mat4 m = obj.worldFromObjectAt(t);
-        std::vector<glm::vec3> world(obj.mesh.positions.size());
-        for (size_t i = 0; i < world.size(); ++i) world[i] = glm::vec3(m * glm::vec4(obj.mesh.positions[i], 1.0f));
-        for (size_t i = 0; i + 2 < obj.mesh.indices.size(); i += 3)
-            out.push_back({world[obj.mesh.indices[i]], world[obj.mesh.indices[i + 1]], world[obj.mesh.indices[i + 2]],
-                           int(o)});
-    }
-    return out;
-}
-
 // Moller and Trumbore 1997: does the segment origin + s dir, s in (0, tfar), cross the triangle?
 bool segmentHits(const WorldTriangle& tri, glm::vec3 origin, glm::vec3 dir, float tfar) {
     glm::vec3 e1 = tri.b - tri.a, e2 = tri.c - tri.a;

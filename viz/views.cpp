@@ -39,7 +39,7 @@
 namespace shadowlab {
 
 // ---- the registry: one line per view; the view's own file defines the function ---------------------
-#define SHADOWLAB_VIEWS(X) X(scene3dView) X(shadowMapView) X(internalView) X(errorView) X(kernelSizeView) X(reuseView) X(backprojectionView) X(hsmView)
+#define SHADOWLAB_VIEWS(X) X(scene3dView) X(shadowMapView) X(internalView) X(errorView) X(kernelSizeView) X(reuseView) X(backprojectionView) X(hsmView) X(wedgesView)
 
 #define SHADOWLAB_DECLARE_VIEW(fn) const ViewDesc& fn();
 SHADOWLAB_VIEWS(SHADOWLAB_DECLARE_VIEW)
@@ -131,6 +131,23 @@ nlohmann::json ViewContext::pixelRecord() const {
 std::string ViewContext::exportTarget(const std::string& path) const {
     return request.outputs ? request.outputs->stage(path) : path;
 }
+
+// ---- scene geometry -------------------------------------------------------------------------------
+std::vector<WorldTriangle> worldTriangles(const Scene& scene, double t, bool castersOnly) {
+    std::vector<WorldTriangle> out;
+    for (size_t o = 0; o < scene.objects.size(); ++o) {
+        const Object& obj = scene.objects[o];
+        if (castersOnly && !obj.castsShadows) continue;
+        glm::mat4 m = obj.worldFromObjectAt(t);
+        std::vector<glm::vec3> world(obj.mesh.positions.size());
+        for (size_t i = 0; i < world.size(); ++i) world[i] = glm::vec3(m * glm::vec4(obj.mesh.positions[i], 1.0f));
+        for (size_t i = 0; i + 2 < obj.mesh.indices.size(); i += 3)
+            out.push_back({world[obj.mesh.indices[i]], world[obj.mesh.indices[i + 1]], world[obj.mesh.indices[i + 2]],
+                           int(o)});
+    }
+    return out;
+}
+
 
 // ---- FunctionSource -----------------------------------------------------------------------------------
 vtkStandardNewMacro(FunctionSource);

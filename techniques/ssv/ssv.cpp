@@ -478,9 +478,13 @@ InternalDesc ssvPixelRecord() {
                                "front_fraction (the fraction of the sub-light in front of the receiver's tangent plane) "
                                "and visibility ((1 - (hard_count x area + coverage_sum) / area), clamped, x front_fraction)"},
                 {"edges", "the silhouette edges whose wedge contains the point (or that have no wedge and are evaluated "
-                          "everywhere) and reach the light: index, sub_light, world end points a -> b, weight, wedge kind, "
-                          "projected and clipped end points on the sub-light (its light coordinates), orientation, signed "
-                          "coverage (occluded light area it adds, times its weight)"},
+                          "everywhere) and reach the light: index, sub_light, world end points world_a -> world_b, weight, "
+                          "wedge kind, the edge projected on the sub-light a -> b (its light coordinates, before the light "
+                          "clip) and clipped to it, orientation, signed_area (the occluded light area it adds: its "
+                          "coverage times its weight)"},
+                {"hard_count", "split 1: the light's hard count (as in sub_lights)"},
+                {"initial_area", "split 1: hard_count x light area, the V-buffer's hard part"},
+                {"front_fraction", "split 1: the light's front fraction (as in sub_lights)"},
                 {"visibility_from_record", "the mean of the sub-lights' visibility"},
                 {"visibility", "this light's visibility at the pixel (the image)"}};
     r.reads = {"gbuffer", "light", "silhouettes", "hard_count", "wedge_coverage", "visibility", "param:penumbra",
@@ -536,14 +540,15 @@ InternalDesc ssvPixelRecord() {
                     const glm::vec2 ca = glm::vec2(e.x, e.y) + d * range.x, cb = glm::vec2(e.x, e.y) + d * range.y;
                     list.push_back({{"index", i},
                                     {"sub_light", k},
-                                    {"a", {a.x, a.y, a.z}},
-                                    {"b", {b.x, b.y, b.z}},
+                                    {"world_a", {a.x, a.y, a.z}},
+                                    {"world_b", {b.x, b.y, b.z}},
                                     {"weight", weight[i]},
                                     {"wedge", w.kind == SsvWedge::Kind::Wedge ? "wedge" : "everywhere"},
-                                    {"projected", {e.x, e.y, e.z, e.w}},
+                                    {"a", {e.x, e.y}},
+                                    {"b", {e.z, e.w}},
                                     {"clipped", {ca.x, ca.y, cb.x, cb.y}},
                                     {"orientation", shared::edgeTurn(ca, cb) > 0.0f ? "ccw" : "cw"},
-                                    {"signed_coverage", area}});
+                                    {"signed_area", area}});
                 }
             }
             const float count = counts[int(k)];
@@ -562,6 +567,11 @@ InternalDesc ssvPixelRecord() {
         j["light_geometry"] = {{"shape", shape == shared::BP_LIGHT_SQUARE ? "square" : "disk"},
                                {"area", shared::bpLightArea(shape)}};
         j["sub_lights"] = subs;
+        if (subLights.size() == 1) {  // the fields the backprojection view reads, for the one light
+            j["hard_count"] = subs[0]["hard_count"];
+            j["initial_area"] = subs[0]["hard_count"].get<float>() * shared::bpLightArea(shape);
+            j["front_fraction"] = subs[0]["front_fraction"];
+        }
         j["edges"] = list;
         j["visibility_from_record"] = mean;
         j["visibility"] = ctx.pixelValue("visibility", pixel);

@@ -104,6 +104,7 @@ TEST_F(TextStandard, EveryViewAtTwoSizesKeepsTheTextStandard) {
         {"internal", "pcss", false},    {"error", "pcf", false},          {"kernel-size", "pcss", false},
         {"reuse", "sssm", false},       {"backprojection", "ssm-contour", true},
         {"backprojection", "ssm-gbp06", true}, {"hsm", "ssm-contour", true},
+        {"backprojection", "ssv", true},       {"wedges", "ssv", false},        {"wedges", "ssv", true},
     };
     std::set<std::string> covered;
     for (const ViewCase& c : cases) {
