@@ -156,7 +156,8 @@ TEST(SsvMath, HardCases) {
 TEST(SsvWedge, EnclosesThePenumbraAndNothingOutsideIsCovered) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
-    int wedges = 0, everywhere = 0, samples = 0, outsideCovered = 0, outsideTested = 0;
+    int wedges = 0, everywhere = 0, samples = 0, outsideCovered = 0, outsideTested = 0, onPlaneTested = 0;
+    float onPlaneWorst = 0.0f;
     for (int i = 0; i < 600; ++i) {
         SsvLight light;
         light.shape = i % 2 ? LightShape::Square : LightShape::Sphere;
@@ -191,6 +192,27 @@ TEST(SsvWedge, EnclosesThePenumbraAndNothingOutsideIsCovered) {
         }
         // Points outside the wedge (but in front of the bottom): coverage zero.
         const glm::vec3 lp = light.centre;
+        // A receiver exactly on one of the wedge's front, back or side planes (a hard case: the
+        // GPU's depth test and the CPU's plane test may put it on either side): its coverage is
+        // continuous there and 0 from outside, so at most rounding (1e-4 of the light's area), and
+        // the culling cannot change the sum whichever side it picks.
+        for (int k = 0; k < 40; ++k) {
+            const SsvPlane* planes[4] = {&w.front, &w.back, &w.side0, &w.side1};
+            const SsvPlane& plane = *planes[k % 4];
+            const glm::vec3 q0(4.0f * u(rng), 4.0f * u(rng) - 1.0f, 4.0f * u(rng));
+            const glm::vec3 q = q0 - plane.distance(q0) * plane.n;
+            if (!w.contains(q, 1e-4f) || glm::length(q - lp) > 0.9f * far) continue;
+            auto frame = [&](const glm::vec3& v) {
+                const glm::vec3 d = v - lp;
+                return glm::vec3(glm::dot(d, light.right), glm::dot(d, light.up), glm::dot(d, light.direction));
+            };
+            const int shape = light.shape == LightShape::Square ? BP_LIGHT_SQUARE : BP_LIGHT_DISK;
+            const float c = ssvEdgeCoverage(shape, frame(q), glm::vec3(0.0f), frame(e0), frame(e1), light.halfSize());
+            ASSERT_TRUE(std::isfinite(c));
+            EXPECT_LE(std::abs(c), 4e-4f) << "wedge " << i << " plane " << k % 4;
+            onPlaneWorst = std::max(onPlaneWorst, std::abs(c));
+            ++onPlaneTested;
+        }
         for (int k = 0; k < 40; ++k) {
             const glm::vec3 q(4.0f * u(rng), 4.0f * u(rng) - 1.0f, 4.0f * u(rng));
             if (w.contains(q, 1e-3f) || w.bottom.distance(q) < 0.0f) continue;
@@ -209,6 +231,9 @@ TEST(SsvWedge, EnclosesThePenumbraAndNothingOutsideIsCovered) {
     EXPECT_GT(samples, 10000);
     EXPECT_GT(outsideTested, 2000);
     EXPECT_EQ(outsideCovered, 0);
+    EXPECT_GT(onPlaneTested, 2000);
+    std::printf("receivers exactly on a wedge plane: %d, largest |coverage| %.3g (of the light's 4 or pi)\n",
+                onPlaneTested, onPlaneWorst);
     std::printf("%d wedges, %d edges evaluated everywhere, %d penumbra samples inside, %d outside points uncovered\n",
                 wedges, everywhere, samples, outsideTested);
 }
@@ -653,6 +678,15 @@ TEST_F(SsvRender, ExportedWedgesReRasterizedGiveTheGpuCoverage) {
             hulls.back().planes.push_back(glm::vec4(n, glm::dot(n, a)));
         }
         EXPECT_EQ(hulls.size() * 8, wedges.primitiveCount());
+        // One wedge per silhouette edge whose wedge could be built, in edge order.
+        size_t withWedge = 0;
+        for (float k : kind) withWedge += k == float(int(SsvWedge::Kind::Wedge));
+        EXPECT_EQ(hulls.size(), withWedge);
+        for (size_t h = 1; h < hulls.size(); ++h) EXPECT_LT(hulls[h - 1].edge, hulls[h].edge);
+        if (std::string(name) == "square-occluder") {
+            EXPECT_EQ(edges.primitiveCount(), 4u);  // the plate's top face's four edges
+            EXPECT_EQ(hulls.size(), 4u);
+        }
         const LightState& light = *renderer.lights()[0];
         const glm::mat4 view = light.view.viewFromWorld;
         auto toLight = [&](glm::vec3 x) {
