@@ -10,11 +10,12 @@ layout(std430, binding = 0) readonly buffer SsvEdges {
 uniform mat4 lightViewFromWorld;  // the sub-light's frame
 uniform int lightShape;       // BP_LIGHT_SQUARE or BP_LIGHT_DISK
 uniform float lightHalfSize;  // w_l / 2 or r
+uniform int vbufferDivisor;  // k: this texel of the reduced V-buffer is the frame's pixel k i + k / 2
 flat in int edgeIndex;
 layout(location = 0) out vec4 coverage;  // the colour mask keeps the sub-light's channel
 
 void main() {
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    ivec2 pixel = ivec2(gl_FragCoord.xy) * vbufferDivisor + vbufferDivisor / 2;
     if (isBackground(pixel)) discard;
     vec4 v = lightViewFromWorld * vec4(worldPosition(pixel), 1.0);
     vec3 p = vec3(v.x, v.y, -v.z);

@@ -64,6 +64,54 @@ glm::mat4 infiniteClipFromView(const Camera& camera, float aspect) {
     return m;
 }
 
+// The V-buffer at a reduced resolution (parameter vbuffer_divisor k; the slides' load balancing,
+// "scale the size of the output V-buffer"): texel i of the reduced buffer is the frame's pixel
+// g = k i + floor(k / 2), and the hard volumes and wedges are rasterized in a viewport of the reduced
+// size with the projection moved by a fraction of a pixel so that each texel's ray passes through
+// the centre of its pixel g (its depth and its G-buffer point are then that pixel's, exactly). k = 1
+// is the frame itself (the adjustment is the identity).
+struct VBuffer {
+    int k = 1, width = 1, height = 1;
+    glm::mat4 clipAdjust{1.0f};  // clip space of the frame -> clip space of the reduced viewport
+};
+VBuffer vbufferOf(PassContext& ctx) {
+    VBuffer v;
+    v.k = std::max(1, ctx.paramInt("vbuffer_divisor"));
+    const int w = ctx.width(), h = ctx.height(), k = v.k;
+    v.width = std::max(1, (w - 1 - k / 2) / k + 1);
+    v.height = std::max(1, (h - 1 - k / 2) / k + 1);
+    const double d = (k % 2 == 0) ? 0.5 : 0.0;  // full-frame pixels between texel i's natural ray and pixel g's centre
+    const double ax = double(w) / (double(k) * v.width), ay = double(h) / (double(k) * v.height);
+    v.clipAdjust[0][0] = float(ax);
+    v.clipAdjust[1][1] = float(ay);
+    v.clipAdjust[3][0] = float(ax - 1.0 - 2.0 * d / (double(k) * v.width));
+    v.clipAdjust[3][1] = float(ay - 1.0 - 2.0 * d / (double(k) * v.height));
+    return v;
+}
+// The reduced viewport, and under refineFrame's band scissor (frame pixels) a scissor on the reduced
+// texels that cover it with a one-texel margin (the visibility pass's bilinear taps); bands overlap
+// there and recompute those texels, which is idempotent (each clears before it adds).
+class VBufferViewport {
+public:
+    explicit VBufferViewport(const VBuffer& v) : scissor_(glIsEnabled(GL_SCISSOR_TEST) == GL_TRUE) {
+        glGetIntegerv(GL_SCISSOR_BOX, box_);
+        glViewport(0, 0, v.width, v.height);
+        if (scissor_ && v.k > 1) {
+            const int x0 = std::max(0, box_[0] / v.k - 1), y0 = std::max(0, box_[1] / v.k - 1);
+            const int x1 = std::min(v.width, (box_[0] + box_[2] + v.k - 1) / v.k + 1);
+            const int y1 = std::min(v.height, (box_[1] + box_[3] + v.k - 1) / v.k + 1);
+            glScissor(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0));
+        }
+    }
+    ~VBufferViewport() {
+        if (scissor_) glScissor(box_[0], box_[1], box_[2], box_[3]);
+    }
+
+private:
+    bool scissor_;
+    GLint box_[4] = {0, 0, 0, 0};
+};
+
 // A vertex stream of vec4s (attribute 0) that grows as needed.
 class Vec4Stream {
 public:
@@ -247,10 +295,12 @@ public:
             countId_ = count.id();
         }
         const Camera& camera = ctx.camera();
+        const VBuffer vb = vbufferOf(ctx);
         const glm::mat4 clipFromWorld =
-            infiniteClipFromView(camera, float(ctx.width()) / float(ctx.height())) * camera.viewFromWorld();
+            vb.clipAdjust * infiniteClipFromView(camera, float(ctx.width()) / float(ctx.height())) * camera.viewFromWorld();
         // The camera's depth of every G-buffer point, under the infinite projection.
         depthFbo_.bind(ctx.width(), ctx.height());
+        const VBufferViewport viewport(vb);
         PipelineState write = PipelineState::fullscreen();
         write.depthTest = true;
         write.depthFunc = GL_ALWAYS;
@@ -261,6 +311,7 @@ public:
         depthProgram.use();
         ctx.bindGBuffer(depthProgram);
         depthProgram.set("clipFromWorld", clipFromWorld);
+        depthProgram.set("vbufferDivisor", vb.k);
         drawFullscreenTriangle();
         // Per sub-light: its volume counted in the stencil (z-fail), the count read as a float
         // into channel k of hard_count (stencil texturing: the 8-bit wrapped count read as signed).
@@ -272,10 +323,12 @@ public:
         const ShaderProgram& program = ctx.programs().get("ssv/volume.vert", "ssv/empty.frag");
         const ShaderProgram& read = ctx.programs().get("common/fullscreen.vert", "ssv/count.frag");
         countFbo_.bind(ctx.width(), ctx.height());
+        glViewport(0, 0, vb.width, vb.height);
         const float zero[4] = {0, 0, 0, 0};
         glClearNamedFramebufferfv(countFbo_.id(), GL_COLOR, 0, zero);
         for (size_t k = 0; k < subLights.size(); ++k) {
             depthFbo_.bind(ctx.width(), ctx.height());
+            glViewport(0, 0, vb.width, vb.height);
             PipelineState::fullscreen().apply();
             glClearNamedFramebufferiv(depthFbo_.id(), GL_STENCIL, 0, std::array<GLint, 1>{0}.data());
             if (first[k + 1] > first[k]) {
@@ -290,6 +343,7 @@ public:
             for (int c = 0; c < 4; ++c) readState.colorMask[c] = c == int(k);
             readState.apply();
             countFbo_.bind(ctx.width(), ctx.height());
+            glViewport(0, 0, vb.width, vb.height);
             glTextureParameteri(depth.id(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
             read.use();
             glBindTextureUnit(4, depth.id());
@@ -321,6 +375,8 @@ public:
             coverageId_ = coverage.id();
         }
         fbo_.bind(ctx.width(), ctx.height());
+        const VBuffer vb = vbufferOf(ctx);
+        const VBufferViewport viewport(vb);
         PipelineState::fullscreen().apply();
         const float zero[4] = {0, 0, 0, 0};
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero);
@@ -359,7 +415,7 @@ public:
 
         const Camera& camera = ctx.camera();
         const glm::mat4 clipFromWorld =
-            infiniteClipFromView(camera, float(ctx.width()) / float(ctx.height())) * camera.viewFromWorld();
+            vb.clipAdjust * infiniteClipFromView(camera, float(ctx.width()) / float(ctx.height())) * camera.viewFromWorld();
         const ShaderProgram& mark = ctx.programs().get("ssv/wedge.vert", "ssv/empty.frag");
         const ShaderProgram& shade = ctx.programs().get("ssv/wedge.vert", "ssv/wedge.frag");
         const ShaderProgram& everywhere = ctx.programs().get("ssv/wedge.vert", "ssv/wedge.frag", {"EVERYWHERE"});
@@ -367,6 +423,7 @@ public:
         for (const ShaderProgram* p : {&shade, &everywhere}) {
             ctx.bindGBuffer(*p);
             p->set("lightShape", bpLightShape(light));
+            p->set("vbufferDivisor", vb.k);
         }
         // Mark: the wedge's own z-fail count, 1 where the pixel's point is inside it.
         PipelineState markState = zFailState();
@@ -451,6 +508,9 @@ public:
         program.set("lightRight", light.isPoint() ? glm::vec3(0.0f) : light.right());
         program.set("lightUp", light.up);
         program.set("subLightSize", light.isPoint() ? 0.0f : subLights[0].size);
+        const VBuffer vb = vbufferOf(ctx);
+        program.set("vbufferDivisor", vb.k);
+        program.set("vbufferSize", glm::ivec2(vb.width, vb.height));
         fbo_.bind(ctx.width(), ctx.height());
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -485,10 +545,14 @@ InternalDesc ssvPixelRecord() {
                 {"hard_count", "split 1: the light's hard count (as in sub_lights)"},
                 {"initial_area", "split 1: hard_count x light area, the V-buffer's hard part"},
                 {"front_fraction", "split 1: the light's front fraction (as in sub_lights)"},
+                {"vbuffer", "the V-buffer's divisor k, its size and the texel read (GL rows from the bottom); with k > 1 "
+                            "the hard counts are that texel's (the pixel nearest the picked one that the reduced buffer "
+                            "holds) while the image interpolates four texels, so visibility_from_record is the V-buffer at "
+                            "full resolution and the image differs by the load balancing's error"},
                 {"visibility_from_record", "the mean of the sub-lights' visibility"},
                 {"visibility", "this light's visibility at the pixel (the image)"}};
     r.reads = {"gbuffer", "light", "silhouettes", "hard_count", "wedge_coverage", "visibility", "param:penumbra",
-               "param:split"};
+               "param:split", "param:vbuffer_divisor"};
     r.record = [](PassContext& ctx, glm::ivec2 pixel) {
         nlohmann::json j;
         const int row = ctx.height() - 1 - pixel.y;
@@ -502,8 +566,13 @@ InternalDesc ssvPixelRecord() {
             j["background"] = true;
             return j;
         }
-        glGetTextureSubImage(ctx.texture("hard_count").id(), 0, pixel.x, row, 0, 1, 1, 1, GL_RGBA, GL_FLOAT,
-                             sizeof counts, &counts);
+        // The V-buffer texel of the pixel (vbuffer_divisor k > 1: the nearest of the reduced buffer,
+        // whose pixel is k i + k / 2; the image interpolates between four).
+        const VBuffer vb = vbufferOf(ctx);
+        const int tx = std::clamp(int(std::lround(double(pixel.x - vb.k / 2) / vb.k)), 0, vb.width - 1);
+        const int ty = std::clamp(int(std::lround(double(row - vb.k / 2) / vb.k)), 0, vb.height - 1);
+        glGetTextureSubImage(ctx.texture("hard_count").id(), 0, tx, ty, 0, 1, 1, 1, GL_RGBA, GL_FLOAT, sizeof counts,
+                             &counts);
         const Light& light = ctx.light();
         const LightView& view = ctx.lightView();
         const glm::vec3 world(position);
@@ -567,6 +636,7 @@ InternalDesc ssvPixelRecord() {
         j["light_geometry"] = {{"shape", shape == shared::BP_LIGHT_SQUARE ? "square" : "disk"},
                                {"area", shared::bpLightArea(shape)}};
         j["sub_lights"] = subs;
+        j["vbuffer"] = {{"divisor", vb.k}, {"texel", {tx, ty}}, {"size", {vb.width, vb.height}}};
         if (subLights.size() == 1) {  // the fields the backprojection view reads, for the one light
             j["hard_count"] = subs[0]["hard_count"];
             j["initial_area"] = subs[0]["hard_count"].get<float>() * shared::bpLightArea(shape);
@@ -602,7 +672,12 @@ const TechniqueDesc& ssvTechnique() {
                         "quarters, each with its own silhouettes, volume and wedges, v their mean (less single-silhouette "
                         "error; a disk or sphere light is not split)",
                         ""};
-        d.params = {penumbra, split};
+        ParamDesc divisor{"vbuffer_divisor", "", ParamDesc::Type::Int, "", 1.0, 1, 4, 1,
+                          "the V-buffer at 1/k of the frame's resolution in each direction, upsampled bilinearly (the "
+                          "slides' load balancing: 'smaller resolution -> faster rendering', with its errors and "
+                          "flicker); 1: the frame's",
+                          ""};
+        d.params = {penumbra, split, divisor};
 
         PassDesc silhouettes;
         silhouettes.name = "silhouettes";
@@ -621,7 +696,7 @@ const TechniqueDesc& ssvTechnique() {
         hard.name = "hard_volumes";
         hard.doc = "the camera's depth from the G-buffer, the shadow volume counted in the stencil with z-fail (capped, "
                    "infinite far plane), the count read back as a float";
-        hard.reads = {"gbuffer", "camera", "light", "shadow_volume", "param:split"};
+        hard.reads = {"gbuffer", "camera", "light", "shadow_volume", "param:split", "param:vbuffer_divisor"};
         hard.creates = {ResourceDesc::texture("volume_depth", Format::DEPTH32F_STENCIL8, SizeRule::frame(),
                                               "camera depth (infinite far plane) and the stencil the volumes count in"),
                         ResourceDesc::texture("hard_count", Format::RGBA32F, SizeRule::frame(),
@@ -633,7 +708,8 @@ const TechniqueDesc& ssvTechnique() {
         wedge.name = "wedges";
         wedge.doc = "per wedge: its z-fail count marks the points inside it (the slides' stencil culling), then its back "
                     "faces add the edge's signed coverage where marked, into a float V-buffer";
-        wedge.reads = {"gbuffer", "camera", "light", "silhouettes", "wedges", "param:penumbra", "param:split"};
+        wedge.reads = {"gbuffer", "camera", "light", "silhouettes", "wedges", "param:penumbra", "param:split",
+                       "param:vbuffer_divisor"};
         wedge.modifies = {"volume_depth"};
         wedge.creates = {ResourceDesc::texture("wedge_coverage", Format::RGBA32F, SizeRule::frame(),
                                                "the wedges' signed coverages summed (light-coordinate area; channel k: "
@@ -644,7 +720,7 @@ const TechniqueDesc& ssvTechnique() {
         visibility.name = "visibility";
         visibility.doc = "v = 1 - (hard count x light area + coverage sum) / light area, clamped, times the light's front "
                          "fraction";
-        visibility.reads = {"gbuffer", "light", "hard_count", "wedge_coverage", "param:split"};
+        visibility.reads = {"gbuffer", "light", "hard_count", "wedge_coverage", "param:split", "param:vbuffer_divisor"};
         visibility.creates = {visibilityResource()};
         visibility.create = [] { return std::make_unique<VisibilityPass>(); };
 
