@@ -444,7 +444,35 @@ void build(ViewContext& ctx, ViewResult& result) {
                    {"coverage_area", rasterArea}};         // the right panel's net count, integrated (256^2 texels)
 
     const double strip = addCaptionStrip(ctx.out, caption, true);
-    const double panelAspect = 0.5 * ctx.out.width() / ((1.0 - strip) * ctx.out.height());
+    // The two panels' titles in a strip of their own above the light squares (wrapped to a half
+    // width, measured), so that at any size they never cover the drawing.
+    const std::string leftTitle = edges ? (initial > 0.0 ? "each edge's region: red adds, blue removes; the whole light starts red"
+                                                         : "each edge's region of the light: red adds, blue removes")
+                                        : "each sample's quad on the light: overlaps add up";
+    const std::string rightTitle = "their sum: occluded light dark (orange: twice, blue: < 0)";
+    double titleTop = 1.0;
+    std::string leftWrapped, rightWrapped;
+    {
+        auto probe = titleActor("", ctx.out.height());
+        const int margin = std::max(4, textPx(ctx.out.height()) / 3);
+        const int width = ctx.out.width() / 2 - 2 * margin;
+        leftWrapped = wrapText(probe->GetTextProperty(), leftTitle, width);
+        rightWrapped = wrapText(probe->GetTextProperty(), rightTitle, width);
+        int w = 0, hl = 0, hr = 0;
+        textExtent(probe->GetTextProperty(), leftWrapped, w, hl);
+        textExtent(probe->GetTextProperty(), rightWrapped, w, hr);
+        titleTop = 1.0 - std::min(0.4, double(std::max(hl, hr) + 2 * margin) / ctx.out.height());
+        for (int side = 0; side < 2; ++side) {
+            vtkRenderer* t = ctx.out.addRenderer();
+            t->SetViewport(0.5 * side, titleTop, 0.5 * (side + 1), 1.0);
+            t->SetBackground(0.12, 0.12, 0.14);
+            auto title = titleActor(side == 0 ? leftWrapped : rightWrapped, ctx.out.height());
+            title->GetPositionCoordinate()->SetCoordinateSystemToViewport();
+            title->SetPosition(margin, int(std::lround((1.0 - titleTop) * ctx.out.height())) - margin);
+            t->AddActor2D(title);
+        }
+    }
+    const double panelAspect = 0.5 * ctx.out.width() / ((titleTop - strip) * ctx.out.height());
     auto lightBorder = [&] {
         std::vector<std::pair<glm::vec3, glm::vec3>> border;
         outline(border, lightPolygon(shape), 0.05f);
@@ -458,7 +486,7 @@ void build(ViewContext& ctx, ViewResult& result) {
 
     // Left: the terms.
     vtkRenderer* r = ctx.out.addRenderer();
-    r->SetViewport(0.0, strip, 0.5, 1.0);
+    r->SetViewport(0.0, strip, 0.5, titleTop);
     r->SetBackground(0.12, 0.12, 0.14);
     {
         vtkNew<FunctionSource> src;  // the light, filled pale
@@ -500,15 +528,11 @@ void build(ViewContext& ctx, ViewResult& result) {
     if (!clippedLines.empty()) r->AddActor(lineActor(clippedLines, glm::vec3(0.02f), 2.5f));  // the part on the light
     r->AddActor(lightBorder());
     r->AddActor(centreMark());
-    r->AddActor2D(titleActor(edges ? (initial > 0.0 ? "each edge's region: red adds, blue\nremoves; the whole light starts red"
-                                                    : "each edge's region of the light:\nred adds, blue removes")
-                                   : "each sample's quad on the light:\noverlaps add up",
-                             ctx.out.height()));
     lightCamera(r, panelAspect);
 
     // Right: the sum.
     vtkRenderer* s = ctx.out.addRenderer();
-    s->SetViewport(0.5, strip, 1.0, 1.0);
+    s->SetViewport(0.5, strip, 1.0, titleTop);
     s->SetBackground(0.12, 0.12, 0.14);
     {
         vtkNew<vtkLookupTable> lut;  // one colour per count: -1 and below, 0, 1, 2 and above
@@ -531,7 +555,6 @@ void build(ViewContext& ctx, ViewResult& result) {
     }
     s->AddActor(lightBorder());
     s->AddActor(centreMark());
-    s->AddActor2D(titleActor("their sum: occluded light dark\n(orange: twice, blue: < 0)", ctx.out.height()));
     lightCamera(s, panelAspect);
 
     if (!ctx.request.exportPath.empty()) writePolyData(poly, ctx.exportTarget(ctx.request.exportPath));

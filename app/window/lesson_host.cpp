@@ -97,6 +97,7 @@ public:
             return;
         }
         w_.pickPixel(*pixel);
+        w_.lessonPick_ = *pick;  // re-projected if the technique view's size changes (Window::renderViews)
     }
     void setSplit(const std::string& against) override {
         if (against.empty()) w_.setCompare(referenceShown_ ? WindowState::Compare::Reference : WindowState::Compare::None);

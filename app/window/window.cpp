@@ -374,6 +374,7 @@ void Window::pickPixel(glm::ivec2 pixel) {
     pixel = glm::clamp(pixel, glm::ivec2(0), size - 1);
     state_.pickedPixel = pixel;  // views re-render for it (no rendered state changes: no touch())
     pickSize_ = size;
+    lessonPick_.reset();  // the lesson host sets it again after this when the pick is its world point
     setStatus("picked pixel " + std::to_string(pixel.x) + "," + std::to_string(pixel.y));
 }
 
@@ -561,6 +562,9 @@ void Window::renderViews() {
     if (state_.pickedPixel && pickSize_ != full && pickSize_.x > 0 && pickSize_.y > 0) {
         const glm::vec2 f = (glm::vec2(*state_.pickedPixel) + 0.5f) / glm::vec2(pickSize_);
         state_.pickedPixel = glm::clamp(glm::ivec2(f * glm::vec2(full)), glm::ivec2(0), full - 1);
+        // A lesson's pick: projected again at the new size (another aspect moves a world point).
+        if (lessonPick_)
+            if (auto p = pickPixelAt(*lessonPick_, state_.camera, full.x, full.y)) state_.pickedPixel = *p;
         pickSize_ = full;
         // The status line names the pixel as it is now, not where it was before the re-layout.
         if (status_.rfind("picked pixel ", 0) == 0)

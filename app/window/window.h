@@ -26,6 +26,7 @@
 #include "graph/renderer.h"
 #include "image/image.h"
 #include "image/metrics.h"
+#include "lesson/lesson.h"
 #include "scene/scene.h"
 #include "window/layout.h"
 
@@ -373,6 +374,11 @@ private:
     WindowLayout layout_;
     float normalUiScale_ = 1.0f;
     glm::ivec2 pickSize_{0};  // the technique view's size when the pixel was picked
+    // The lesson's pick when it is a world point (`pick at X Y Z`): re-projected through the camera
+    // when the technique view's size changes (a step opening views shrinks it), so the picked pixel
+    // stays on that point, not on the same fraction of an image of another aspect. Any other pick
+    // clears it.
+    std::optional<LessonPick> lessonPick_;
     bool pressOnLight_ = false;  // a script's drag-light press (input.cpp)  // the UI scale to go back to when presentation mode ends
     Texture errorDummy_;
     Texture viewCache_;          // the composed technique view (sRGB RGBA8), at the render's size

@@ -88,28 +88,11 @@ VBuffer vbufferOf(PassContext& ctx) {
     v.clipAdjust[3][1] = float(ay - 1.0 - 2.0 * d / (double(k) * v.height));
     return v;
 }
-// The reduced viewport, and under refineFrame's band scissor (frame pixels) a scissor on the reduced
-// texels that cover it with a one-texel margin (the visibility pass's bilinear taps); bands overlap
-// there and recompute those texels, which is idempotent (each clears before it adds).
+// The reduced viewport. (The passes that draw into it run whole, never in refineFrame's bands:
+// PassDesc::wholeFrame.)
 class VBufferViewport {
 public:
-    explicit VBufferViewport(const VBuffer& v) : scissor_(glIsEnabled(GL_SCISSOR_TEST) == GL_TRUE) {
-        glGetIntegerv(GL_SCISSOR_BOX, box_);
-        glViewport(0, 0, v.width, v.height);
-        if (scissor_ && v.k > 1) {
-            const int x0 = std::max(0, box_[0] / v.k - 1), y0 = std::max(0, box_[1] / v.k - 1);
-            const int x1 = std::min(v.width, (box_[0] + box_[2] + v.k - 1) / v.k + 1);
-            const int y1 = std::min(v.height, (box_[1] + box_[3] + v.k - 1) / v.k + 1);
-            glScissor(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0));
-        }
-    }
-    ~VBufferViewport() {
-        if (scissor_) glScissor(box_[0], box_[1], box_[2], box_[3]);
-    }
-
-private:
-    bool scissor_;
-    GLint box_[4] = {0, 0, 0, 0};
+    explicit VBufferViewport(const VBuffer& v) { glViewport(0, 0, v.width, v.height); }
 };
 
 // A vertex stream of vec4s (attribute 0) that grows as needed.
@@ -702,6 +685,7 @@ const TechniqueDesc& ssvTechnique() {
                         ResourceDesc::texture("hard_count", Format::RGBA32F, SizeRule::frame(),
                                               "number of hard shadow volumes containing each pixel's point (channel k: "
                                               "sub-light k)")};
+        hard.wholeFrame = true;  // a handful of draws, but wedges below: see PassDesc::wholeFrame
         hard.create = [] { return std::make_unique<HardVolumePass>(); };
 
         PassDesc wedge;
@@ -714,6 +698,7 @@ const TechniqueDesc& ssvTechnique() {
         wedge.creates = {ResourceDesc::texture("wedge_coverage", Format::RGBA32F, SizeRule::frame(),
                                                "the wedges' signed coverages summed (light-coordinate area; channel k: "
                                                "sub-light k)")};
+        wedge.wholeFrame = true;  // two draws per wedge: in bands each band would draw them all again
         wedge.create = [] { return std::make_unique<WedgePass>(); };
 
         PassDesc visibility;

@@ -738,8 +738,8 @@ TEST_F(SsvRender, ExportedWedgesReRasterizedGiveTheGpuCoverage) {
 // (square-occluder's floor: RMSE <= 0.01), while wherever the geometry changes within k pixels the
 // bilinear taps mix a surface with what lies behind it (plant: its leaves, a few pixels wide at
 // 128x128, and the floor seen between them; bound 0.12 over the image): the "rendering errors" of
-// the slides' load balancing, measured in the printout. The window's refinement in bands of rows
-// gives the frame run whole (the reduced passes take a scissor on their own texels).
+// the slides' load balancing, measured in the printout. The window's refinement (the volumes and
+// wedges whole, the visibility in bands of rows) gives the frame run whole.
 TEST_F(SsvRender, ReducedVBufferIsCloseAndRefinesInBands) {
     for (const char* name : {"square-occluder", "plant"}) {
         Scene scene = loadScene(name);

@@ -64,7 +64,7 @@ bool isFrameTexture(const TechniqueDesc& desc, const std::string& name, int dept
 // scissor bounds its work (clears and draws honour it; its fragments depend on their own pixel's
 // inputs or on complete earlier passes).
 bool writesOnlyFrameTextures(const TechniqueDesc& desc, const PassDesc& pass) {
-    if (pass.creates.empty() && pass.modifies.empty()) return false;
+    if (pass.wholeFrame || (pass.creates.empty() && pass.modifies.empty())) return false;
     for (const ResourceDesc& r : pass.creates)
         if (!isFrameTexture(desc, r.name)) return false;
     for (const std::string& m : pass.modifies)

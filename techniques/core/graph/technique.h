@@ -91,6 +91,10 @@ struct PassDesc {
     std::vector<std::string> modifies;
     PipelineState state = PipelineState::fullscreen();
     bool soft = false;  // does not run for a point light (`hard` replaces the technique)
+    // Never run in bands by Renderer::refineFrame, even when it writes only frame-size textures:
+    // its cost is per draw call rather than per pixel (ssv's volumes and wedges: hundreds of draws,
+    // each over much of the frame), so every band would pay for all of them again.
+    bool wholeFrame = false;
     std::function<std::unique_ptr<Pass>()> create;
 
     std::vector<std::string> writes() const;  // creates' names, then modifies
