@@ -660,7 +660,25 @@ const TechniqueDesc& ssvTechnique() {
                           "slides' load balancing: 'smaller resolution -> faster rendering', with its errors and "
                           "flicker); 1: the frame's",
                           ""};
-        d.params = {penumbra, split, divisor};
+        ParamDesc target{"load_balance_ms", "", ParamDesc::Type::Float, "ms", 0.0, 0, 10000, 1,
+                         "the slides' reactive load balancing: after each frame, vbuffer_divisor one step up when the "
+                         "technique's passes took more than 1.2x this, one step down when the step down is predicted "
+                         "(the cost per pixel, (k / (k - 1))^2 more) under 0.8x it; 0: off",
+                         ""};
+        d.params = {penumbra, split, divisor, target};
+        // The reactive rule (assarsson2004, "Load balancing... use a simple reactive algorithm"): the
+        // V-buffer's resolution follows the frame's cost, one step a frame, with hysteresis (1.2 and
+        // 0.8 around the target) so that a steady cost settles; a changing one flickers, as the
+        // slides warn ("Will get flickering...").
+        d.adapt = [](const ParamValues& params, double ms) -> std::optional<std::pair<std::string, std::string>> {
+            const double target = params.get("load_balance_ms");
+            if (target <= 0.0) return std::nullopt;
+            const int k = int(params.get("vbuffer_divisor"));
+            if (ms > 1.2 * target && k < 4) return std::make_pair(std::string("vbuffer_divisor"), std::to_string(k + 1));
+            if (k > 1 && ms * double(k * k) / double((k - 1) * (k - 1)) < 0.8 * target)
+                return std::make_pair(std::string("vbuffer_divisor"), std::to_string(k - 1));
+            return std::nullopt;
+        };
 
         PassDesc silhouettes;
         silhouettes.name = "silhouettes";
@@ -705,7 +723,8 @@ const TechniqueDesc& ssvTechnique() {
         visibility.name = "visibility";
         visibility.doc = "v = 1 - (hard count x light area + coverage sum) / light area, clamped, times the light's front "
                          "fraction";
-        visibility.reads = {"gbuffer", "light", "hard_count", "wedge_coverage", "param:split", "param:vbuffer_divisor"};
+        visibility.reads = {"gbuffer", "light", "hard_count", "wedge_coverage", "param:split", "param:vbuffer_divisor",
+                            "param:load_balance_ms"};
         visibility.creates = {visibilityResource()};
         visibility.create = [] { return std::make_unique<VisibilityPass>(); };
 

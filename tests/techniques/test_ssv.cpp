@@ -784,6 +784,50 @@ TEST_F(SsvRender, ReducedVBufferIsCloseAndRefinesInBands) {
     }
 }
 
+// The reactive rule (load_balance_ms): a target no frame can meet (0.01 ms) raises the divisor one
+// step a frame to its largest, 4; a target every frame meets (10 s) brings it back one step a frame
+// to 1; 0 leaves it alone. Each change re-runs what depends on it, so the frames differ (the
+// flicker the slides warn of).
+TEST_F(SsvRender, LoadBalancingReactsToTheFrameCost) {
+    Scene scene = loadScene("plant");
+    RenderOptions options;
+    options.width = options.height = 64;
+    options.technique = "ssv";
+    options.sets = {{"load_balance_ms", "0.01"}};
+    Renderer renderer(scene, options);
+    auto divisor = [&] { return int(renderer.lights()[0]->params.get("vbuffer_divisor")); };
+    std::vector<int> up;
+    std::vector<Image> frames;
+    for (int f = 0; f < 5; ++f) {
+        renderer.renderFrame(f, {"visibility"});
+        frames.push_back(renderer.visibility());
+        up.push_back(divisor());
+    }
+    EXPECT_EQ(up, (std::vector<int>{2, 3, 4, 4, 4}));
+    EXPECT_NE(frames[0].data, frames[1].data);  // k = 1, then k = 2: another picture
+    EXPECT_EQ(frames[3].data, frames[4].data);  // settled at 4: nothing re-runs
+    renderer.setParam("load_balance_ms", "10000");
+    std::vector<int> down;
+    for (int f = 5; f < 9; ++f) {
+        renderer.renderFrame(f, {"visibility"});
+        down.push_back(divisor());
+    }
+    EXPECT_EQ(down, (std::vector<int>{3, 2, 1, 1}));
+    renderer.setParam("load_balance_ms", "0");
+    renderer.setParam("vbuffer_divisor", "3");
+    for (int f = 9; f < 12; ++f) renderer.renderFrame(f, {"visibility"});
+    EXPECT_EQ(divisor(), 3);
+    // The window's progressive frames: one step per completed frame, none while a finished frame is
+    // only reused.
+    Renderer window(scene, options);
+    std::vector<int> steps;
+    for (int call = 0; call < 5; ++call) {
+        ASSERT_EQ(window.refineFrame(0, {"visibility"}, 1e9), 1.0);
+        steps.push_back(int(window.lights()[0]->params.get("vbuffer_divisor")));
+    }
+    EXPECT_EQ(steps, (std::vector<int>{2, 3, 4, 4, 4}));
+}
+
 // The slides' second artifact: "overlapping geometry is handled incorrectly". Where the penumbrae
 // of the two plates of overlapping-occluders overlap, each edge's coverage is added as if it alone
 // hid the light, so the hidden parts are counted twice and v falls below the truth: the pixels

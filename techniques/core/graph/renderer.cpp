@@ -574,6 +574,31 @@ void Renderer::beginFrame(int frame, const std::set<std::string>& requested) {
 void Renderer::renderFrame(int frame, const std::set<std::string>& requested) {
     beginFrame(frame, requested);
     graph_.execute(requested, frame, [this](const std::function<void()>& run) { return timePass(run); });
+    adaptParameters(frame);
+}
+
+void Renderer::adaptParameters(int frame) {
+    for (size_t i = 0; i < lights_.size(); ++i) {
+        const LightState& l = lights_[i]->state;
+        if (!l.desc || !l.desc->adapt) continue;
+        // Once per new run of the light's passes (refineFrame calls this again while a finished
+        // frame is reused): its runs counted against those at the last adaptation.
+        double ms = 0.0;
+        bool ran = false;
+        int runs = 0;
+        for (const PassRecord& r : graph_.records())
+            if (r.group == l.group && r.technique == l.desc->id) {
+                runs += r.runs;
+                if (!r.times.empty() && r.times.back().first == frame) {
+                    ms += r.times.back().second;
+                    ran = true;
+                }
+            }
+        int& seen = adaptedRuns_[l.group];
+        if (!ran || runs == seen) continue;
+        seen = runs;
+        if (auto change = l.desc->adapt(l.params, ms)) setParam(change->first, change->second, int(i), "load balancing");
+    }
 }
 
 double Renderer::refineFrame(int frame, const std::set<std::string>& requested, double budgetMs) {
@@ -613,8 +638,10 @@ double Renderer::refineFrame(int frame, const std::set<std::string>& requested, 
         }
         glDisable(GL_SCISSOR_TEST);
     };
-    return graph_.executeSliced(requested, frame, [this](const std::function<void()>& run) { return timePass(run); },
-                                budgetMs, slicing);
+    const double progress = graph_.executeSliced(
+        requested, frame, [this](const std::function<void()>& run) { return timePass(run); }, budgetMs, slicing);
+    if (progress >= 1.0) adaptParameters(frame);  // a complete frame: the reactive rules see its cost
+    return progress;
 }
 
 void Renderer::measureCost(int firstFrame, int frames) {

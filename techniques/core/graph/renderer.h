@@ -51,6 +51,8 @@ public:
 
     // Renders frame `frame` at t = frame / 30 s, running only what `requested` needs: "image",
     // "visibility", "gbuffer", or a light's resource ("L0/shadow_map", see internalRequests()).
+    // Afterwards each light's technique's reactive rule (TechniqueDesc::adapt) may change a
+    // parameter for the next frame.
     void renderFrame(int frame, const std::set<std::string>& requested);
     // The same frame in slices that fit `budgetMs` each (the window's frame budget, issue 18): one
     // call runs what fits and returns the estimated fraction done; the next call resumes (or starts
@@ -76,6 +78,8 @@ public:
     // ---- live state: each setter bumps exactly the versions it changes (checked by tests).
     // Technique of one light (or of every light: light = -1); its parameters start at their defaults.
     void setTechnique(const std::string& id, int light = -1);
+    // TechniqueDesc::adapt of every light whose passes ran at `frame` (renderFrame calls it).
+    void adaptParameters(int frame);
     // One parameter, validated against the technique's table (InputError naming `where`).
     void setParam(const std::string& key, const std::string& value, int light = -1,
                   const std::string& where = "setParam");
@@ -167,6 +171,7 @@ private:
     Texture white_;  // 1x1 visibility 1, for lights that cast no shadow
     Framebuffer gbufferFbo_, shadeFbo_;
     std::vector<std::unique_ptr<LightSlot>> lights_;
+    std::map<std::string, int> adaptedRuns_;  // adaptParameters: by light group, its passes' runs when last adapted
     PassGraph graph_;
     std::set<std::string> lastRequested_;
     std::set<std::string> banded_;  // passes that write only frame-size textures (refineFrame)

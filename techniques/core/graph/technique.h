@@ -5,6 +5,7 @@
 // techniques/registry.cpp; techniques/template/ is the folder to copy.
 #pragma once
 #include <functional>
+#include <optional>
 #include <glm/glm.hpp>
 #include <map>
 #include <memory>
@@ -158,6 +159,11 @@ struct TechniqueDesc {
     std::vector<PassDesc> passes;  // in execution order; some pass writes "visibility" (R32F, frame size)
     std::vector<InternalDesc> internals;
     std::vector<KernelCapDesc> kernelCaps;  // the kernels it caps (empty: no capped kernel)
+    // A reactive rule (assarsson2004's load balancing): after a frame in which the light's passes
+    // ran, taking `lightMs` (their times summed, that frame), a parameter change for the next frame
+    // ({key, value}), or nothing. Renderer::renderFrame applies it (setParam, so what depends on the
+    // parameter runs again). Null: no rule.
+    std::function<std::optional<std::pair<std::string, std::string>>(const ParamValues& params, double lightMs)> adapt;
 
     const ParamDesc* findParam(const std::string& key) const;
     const InternalDesc* findInternal(const std::string& name) const;
