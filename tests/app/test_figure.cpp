@@ -10,6 +10,7 @@
 
 #include <stb/stb_image.h>
 
+#include "scene/scene.h"
 #include "support/cli_run.h"
 
 namespace fs = std::filesystem;
@@ -171,4 +172,30 @@ TEST(Figure, BadSpecsAreRefusedWithFileAndField) {
     r = run("figure --remake " + notSidecar);
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.output.find("a figure sidecar"), std::string::npos) << r.output;
+}
+
+// The committed figures (the README's first figure, the figure examples in docs/images): their
+// sidecars' layout records cut no label ("..") and keep every label inside the picture, as the
+// composer that made them promises (issue 19); made again by `shadowlab figure --remake`.
+TEST(Figure, CommittedFiguresCutNoLabel) {
+    int figures = 0;
+    for (const auto& e : fs::directory_iterator(fs::path(shadowlab::projectRoot()) / "docs" / "images")) {
+        const std::string name = e.path().filename().string();
+        if (name.size() < 9 || name.compare(name.size() - 9, 9, ".png.json") != 0) continue;
+        std::ifstream in(e.path());
+        const nlohmann::json side = nlohmann::json::parse(in);
+        if (!side.contains("layout")) continue;
+        SCOPED_TRACE(name);
+        ++figures;
+        const int pw = side["picture_size"][0], ph = side["picture_size"][1];
+        for (const auto& label : side["layout"]) {
+            for (const auto& line : label["lines"]) {
+                const std::string t = line.get<std::string>();
+                EXPECT_FALSE(t.size() >= 2 && t.compare(t.size() - 2, 2, "..") == 0) << label.dump();
+            }
+            EXPECT_LE(int(label["box"][0]) + int(label["box"][2]), pw) << label.dump();
+            EXPECT_LE(int(label["box"][1]) + int(label["box"][3]), ph) << label.dump();
+        }
+    }
+    EXPECT_GE(figures, 3);  // techniques.png, figure-reference-hard-pcf.png, figure-guennebaud2007-fig11.png
 }
