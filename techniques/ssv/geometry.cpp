@@ -87,7 +87,8 @@ std::optional<SsvPlane> sidePlane(const SsvLight& light, const glm::vec3& e, con
 
 }  // namespace
 
-SsvWedge buildWedge(const SsvLight& light, const glm::vec3& e0, const glm::vec3& e1, float farDistance) {
+SsvWedge buildWedge(const SsvLight& light, const glm::vec3& e0, const glm::vec3& e1, float farDistance,
+                    const Bounds* receivers) {
     SsvWedge w;
     const glm::vec3 c = light.centre;
     const float d0 = glm::length(e0 - c), d1 = glm::length(e1 - c);
@@ -155,6 +156,19 @@ SsvWedge buildWedge(const SsvLight& light, const glm::vec3& e0, const glm::vec3&
     // D. The bottom plane: perpendicular to the wedge's axis (light centre to the edge's middle),
     // at farDistance from the centre.
     const glm::vec3 axis = glm::normalize(0.5f * (a0 + a1) - c);
+    if (receivers && !receivers->empty()) {
+        // The box's farthest corner along the axis (a linear function peaks at a corner), a little
+        // beyond, and beyond the edge itself.
+        float deepest = std::max(glm::dot(axis, a0 - c), glm::dot(axis, a1 - c));
+        float box = -std::numeric_limits<float>::infinity();
+        for (int k = 0; k < 8; ++k) {
+            const glm::vec3 corner((k & 1) ? receivers->hi.x : receivers->lo.x, (k & 2) ? receivers->hi.y : receivers->lo.y,
+                                   (k & 4) ? receivers->hi.z : receivers->lo.z);
+            box = std::max(box, glm::dot(axis, corner - c));
+        }
+        deepest = std::max(deepest, box);
+        farDistance = std::min(farDistance, 1.02f * deepest + 1e-3f);
+    }
     w.bottom = {-axis, -(farDistance + glm::dot(axis, c))};
     auto bottomCorner = [&](const glm::vec3& apex, const SsvPlane& p, const SsvPlane& q) -> std::optional<glm::vec3> {
         glm::vec3 dir = glm::cross(p.n, q.n);
@@ -200,7 +214,7 @@ std::vector<SsvCaster> buildSsvCasters(const Scene& scene) {
 }
 
 SsvGeometry buildSsvGeometry(const Scene& scene, const std::vector<SsvCaster>& casters, double t,
-                             const SsvLight& light, float farDistance, float capOffset) {
+                             const SsvLight& light, float farDistance, float capOffset, const Bounds* receivers) {
     SsvGeometry g;
     const glm::vec3 c = light.centre;
     for (const SsvCaster& caster : casters) {
@@ -280,7 +294,7 @@ SsvGeometry buildSsvGeometry(const Scene& scene, const std::vector<SsvCaster>& c
     }
     g.wedges.reserve(g.edges.size());
     for (const SsvEdge& e : g.edges) {
-        g.wedges.push_back(buildWedge(light, e.a, e.b, farDistance));
+        g.wedges.push_back(buildWedge(light, e.a, e.b, farDistance, receivers));
         if (g.wedges.back().kind == SsvWedge::Kind::Everywhere) ++g.wedgesEverywhere;
         if (g.wedges.back().kind == SsvWedge::Kind::None) ++g.wedgesNone;
     }

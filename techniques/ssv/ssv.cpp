@@ -149,7 +149,7 @@ public:
         for (size_t k = 0; k < subLights.size(); ++k) {
             const SsvLight light = SsvLight::from(subLights[k]);
             const float far = wedgeFarDistance(bounds, light.centre);
-            const SsvGeometry g = buildSsvGeometry(scene, casters_, t, light, far, capOffsetFor(bounds));
+            const SsvGeometry g = buildSsvGeometry(scene, casters_, t, light, far, capOffsetFor(bounds), &bounds);
             const uint32_t firstEdge = uint32_t(edges.primitiveCount());
             // Silhouette edges: lines, with their weight and whether their wedge is drawn.
             for (size_t i = 0; i < g.edges.size(); ++i) {
@@ -579,7 +579,7 @@ InternalDesc ssvPixelRecord() {
             if (!light.isPoint() && ctx.paramBool("penumbra")) {
                 for (size_t i = first[k]; i < first[k + 1]; ++i) {
                     const glm::vec3 a = edges.positions[edges.indices[2 * i]], b = edges.positions[edges.indices[2 * i + 1]];
-                    const SsvWedge w = buildWedge(slight, a, b, far);
+                    const SsvWedge w = buildWedge(slight, a, b, far, &ctx.sceneBounds());
                     if (w.kind == SsvWedge::Kind::None) continue;
                     if (w.kind == SsvWedge::Kind::Wedge && !w.contains(world)) continue;
                     const glm::vec3 la = toLightFrame(frame, a), lb = toLightFrame(frame, b);

@@ -67,8 +67,12 @@ struct SsvWedge {
     std::string why;  // for Everywhere and None: which step failed
 };
 // `farDistance`: the bottom plane lies at this distance from the light centre along the wedge's
-// axis (beyond every receiver).
-SsvWedge buildWedge(const SsvLight& light, const glm::vec3& e0, const glm::vec3& e1, float farDistance);
+// axis (beyond every receiver). With `receivers` (the scene's bounds), nearer when it can: just
+// beyond the box's farthest corner along this wedge's axis (every receiver lies in the box, so
+// nothing is lost, and the wedge stops under the floor instead of far below it: fewer pixels to
+// rasterize).
+SsvWedge buildWedge(const SsvLight& light, const glm::vec3& e0, const glm::vec3& e1, float farDistance,
+                    const Bounds* receivers = nullptr);
 
 // A silhouette edge in world space, oriented so that the face facing the light centre lies on its
 // left seen from the light (orientSilhouetteEdge), with its weight: 1 on a closed mesh; on an
@@ -111,6 +115,7 @@ std::vector<SsvCaster> buildSsvCasters(const Scene& scene);
 // vertices of the volume away from the light centre by this distance, so that a receiver on the
 // occluder's own surface is not inside its own volume by rounding.
 SsvGeometry buildSsvGeometry(const Scene& scene, const std::vector<SsvCaster>& casters, double t,
-                             const SsvLight& light, float farDistance, float capOffset);
+                             const SsvLight& light, float farDistance, float capOffset,
+                             const Bounds* receivers = nullptr);
 
 }  // namespace shadowlab

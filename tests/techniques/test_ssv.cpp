@@ -156,7 +156,7 @@ TEST(SsvMath, HardCases) {
 TEST(SsvWedge, EnclosesThePenumbraAndNothingOutsideIsCovered) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
-    int wedges = 0, everywhere = 0, samples = 0, outsideCovered = 0, outsideTested = 0, onPlaneTested = 0;
+    int wedges = 0, everywhere = 0, samples = 0, outsideCovered = 0, outsideTested = 0, onPlaneTested = 0, inBox = 0;
     float onPlaneWorst = 0.0f;
     for (int i = 0; i < 600; ++i) {
         SsvLight light;
@@ -176,6 +176,12 @@ TEST(SsvWedge, EnclosesThePenumbraAndNothingOutsideIsCovered) {
         }
         ASSERT_EQ(w.kind, SsvWedge::Kind::Wedge) << w.why;
         ++wedges;
+        // The same wedge cut at a box of receivers (its bottom just beyond the box's farthest
+        // corner along the axis): every penumbra point inside the box is still inside it.
+        Bounds box;
+        box.extend(glm::vec3(-4.0f, -1.0f, -4.0f));
+        box.extend(glm::vec3(4.0f, 2.5f, 4.0f));
+        const SsvWedge cut = buildWedge(light, e0, e1, far, &box);
         for (int k = 0; k < 40; ++k) {
             glm::vec3 l;
             if (light.shape == LightShape::Square)
@@ -188,6 +194,11 @@ TEST(SsvWedge, EnclosesThePenumbraAndNothingOutsideIsCovered) {
             const glm::vec3 q = l + (1.0f + 3.0f * u01(rng)) * (x - l);
             if (glm::length(q - light.centre) > 0.9f * far) continue;
             EXPECT_TRUE(w.contains(q, 1e-4f)) << "wedge " << i << " sample " << k;
+            if (cut.kind == SsvWedge::Kind::Wedge && glm::all(glm::greaterThanEqual(q, box.lo)) &&
+                glm::all(glm::lessThanEqual(q, box.hi))) {
+                EXPECT_TRUE(cut.contains(q, 1e-4f)) << "cut wedge " << i << " sample " << k;
+                ++inBox;
+            }
             ++samples;
         }
         // Points outside the wedge (but in front of the bottom): coverage zero.
@@ -232,6 +243,7 @@ TEST(SsvWedge, EnclosesThePenumbraAndNothingOutsideIsCovered) {
     EXPECT_GT(outsideTested, 2000);
     EXPECT_EQ(outsideCovered, 0);
     EXPECT_GT(onPlaneTested, 2000);
+    EXPECT_GT(inBox, 5000);
     std::printf("receivers exactly on a wedge plane: %d, largest |coverage| %.3g (of the light's 4 or pi)\n",
                 onPlaneTested, onPlaneWorst);
     std::printf("%d wedges, %d edges evaluated everywhere, %d penumbra samples inside, %d outside points uncovered\n",
