@@ -240,8 +240,8 @@ std::vector<size_t> subLightRanges(const MeshData& mesh, size_t subLights) {
 
 // The volume's vertices for the GPU: (x, y, z, 1), or (direction, 0) at infinity from the centre
 // of the triangle's sub-light.
-std::vector<glm::vec4> volumeVertices(const MeshData& volume, const std::vector<Light>& subLights) {
-    std::vector<glm::vec4> out;
+void volumeVertices(const MeshData& volume, const std::vector<Light>& subLights, std::vector<glm::vec4>& out) {
+    out.clear();  // the caller's, kept from frame to frame (no large allocation per frame)
     out.reserve(volume.indices.size());
     const std::vector<float>& infinity = volume.primitiveAttributes[2].second;
     const std::vector<float>& sub = volume.primitiveAttributes[3].second;
@@ -251,7 +251,6 @@ std::vector<glm::vec4> volumeVertices(const MeshData& volume, const std::vector<
         const bool atInfinity = (int(infinity[i / 3]) >> (i % 3)) & 1;
         out.push_back(atInfinity ? glm::vec4(glm::normalize(p - centre), 0.0f) : glm::vec4(p, 1.0f));
     }
-    return out;
 }
 
 PipelineState zFailState() {
@@ -301,7 +300,8 @@ public:
         const MeshData& volume = ctx.mesh("shadow_volume");
         const std::vector<Light> subLights = subLightsOf(ctx);
         const std::vector<size_t> first = subLightRanges(volume, subLights.size());
-        const std::vector<glm::vec4> vertices = volumeVertices(volume, subLights);
+        volumeVertices(volume, subLights, scratch_);
+        const std::vector<glm::vec4>& vertices = scratch_;
         vertices_.upload(vertices);
         const ShaderProgram& program = ctx.programs().get("ssv/volume.vert", "ssv/empty.frag");
         const ShaderProgram& read = ctx.programs().get("common/fullscreen.vert", "ssv/count.frag");
@@ -343,6 +343,7 @@ private:
     Framebuffer depthFbo_, countFbo_;
     GLuint depthId_ = 0, countId_ = 0;
     Vec4Stream vertices_;
+    std::vector<glm::vec4> scratch_;  // the volume's vertices, reused frame to frame
 };
 
 // ---- 3. the wedges ----------------------------------------------------------------------------------
@@ -376,7 +377,8 @@ public:
         const std::vector<Light> subLights = subLightsOf(ctx);
         const std::vector<size_t> first = subLightRanges(edges, subLights.size());
         // The edges in their sub-light's frame for the shader: (a, weight), (b, 0).
-        std::vector<glm::vec4> edgeData;
+        std::vector<glm::vec4>& edgeData = edgeScratch_;  // reused frame to frame
+        edgeData.clear();
         const std::vector<float>& weight = edges.primitiveAttributes[0].second;
         const std::vector<float>& kind = edges.primitiveAttributes[2].second;
         for (size_t k = 0; k < subLights.size(); ++k) {
@@ -389,7 +391,8 @@ public:
         edgeBuffer_.upload(edgeData);
         edgeBuffer_.buffer().bindBase(GL_SHADER_STORAGE_BUFFER, 0);
         // The wedges' triangles, 24 vertices per wedge, each with its edge index.
-        std::vector<glm::vec4> vertices;
+        std::vector<glm::vec4>& vertices = vertexScratch_;
+        vertices.clear();
         vertices.reserve(wedges.indices.size());
         const std::vector<float>& edgeOf = wedges.primitiveAttributes[0].second;
         for (size_t i = 0; i < wedges.indices.size(); ++i)
@@ -461,6 +464,7 @@ private:
     Framebuffer fbo_;
     GLuint depthId_ = 0, coverageId_ = 0;
     Vec4Stream edgeBuffer_, vertices_;
+    std::vector<glm::vec4> edgeScratch_, vertexScratch_;  // reused frame to frame
 };
 
 // ---- 4. visibility ----------------------------------------------------------------------------------
