@@ -129,7 +129,9 @@ void checkBackprojectionStep3(bool waitFirst) {
         // The check waited: the reference accumulated over many frames in the frame budget (the
         // check issued two frames after Show me once completed its 128 samples in one frame, a
         // pause of seconds). The longest frame once it accumulated is the one where it completes
-        // and the step's open views re-render with it (VTK, ~0.25 s on llvmpipe), not the check.
+        // and the step's open views re-render with it (VTK, ~0.25 s on llvmpipe), not the check;
+        // with the suite's other job busy on the second core it took 1.04 s once (CI, 2026-12-03),
+        // so the bound is 2.5 s: what proves the wait is the samples spread over many frames.
         double worst = 0.0;
         int accumulating = 0, jump = 0;
         for (size_t i = 1; i < frames.size(); ++i) {
@@ -140,7 +142,7 @@ void checkBackprojectionStep3(bool waitFirst) {
         }
         EXPECT_GT(accumulating, 8);
         EXPECT_LE(jump, 32);
-        EXPECT_LT(worst, 1000.0);
+        EXPECT_LT(worst, 2500.0);
         std::printf("the check waited over %d frames of samples (at most %d a frame, the longest frame %.0f ms)\n",
                     accumulating, jump, worst);
     }
