@@ -161,6 +161,12 @@ struct WorldTriangle {
 };
 std::vector<WorldTriangle> worldTriangles(const Scene& scene, double t, bool castersOnly);
 
+// The 3D views' camera: the scene camera's view, orbited by azimuth and elevation (degrees), at a
+// 30 degree view angle (the caller fits it to what it draws).
+void orbitSceneCamera(vtkRenderer* renderer, const Camera& camera, double azimuth, double elevation);
+// A ball marking a picked point (unlit, in `rgb`).
+vtkSmartPointer<vtkActor> pointMarker(glm::vec3 point, double radius, glm::vec3 rgb);
+
 // Writers (XML, binary appended): .vtp / .vti. Throw InternalError when VTK cannot write.
 void writePolyData(vtkPolyData* data, const std::string& path);
 void writeImageData(vtkImageData* data, const std::string& path);

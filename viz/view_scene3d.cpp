@@ -16,7 +16,6 @@
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
-#include <vtkSphereSource.h>
 #include <vtkTextActor.h>
 #include <vtkUnsignedCharArray.h>
 
@@ -348,31 +347,12 @@ void build(ViewContext& ctx, ViewResult& result) {
     r3->AddActor(partActor(cameraSource->GetOutputPort(), 2.0f, false));
     if (rays) r3->AddActor(partActor(rays->GetOutputPort(), 1.5f, false));
     if (picked) r3->AddActor(partActor(picked->GetOutputPort(), 2.0f, false));
-    if (point) {
-        vtkNew<vtkSphereSource> ball;
-        ball->SetCenter(point->x, point->y, point->z);
-        ball->SetRadius(0.008 * diagonal);
-        ball->SetThetaResolution(16);
-        ball->SetPhiResolution(16);
-        vtkNew<vtkPolyDataMapper> ballMapper;
-        ballMapper->SetInputConnection(ball->GetOutputPort());
-        vtkNew<vtkActor> ballActor;
-        ballActor->SetMapper(ballMapper);
-        ballActor->GetProperty()->SetColor(kPickedRgb.r, kPickedRgb.g, kPickedRgb.b);
-        ballActor->GetProperty()->LightingOff();
-        r3->AddActor(ballActor);
-    }
+    if (point) r3->AddActor(pointMarker(*point, 0.008 * diagonal, kPickedRgb));
 
     // The default view looks along the scene camera's direction, orbited so that the camera's own
     // frustum and the light stand out; the request orbits and zooms from there.
+    orbitSceneCamera(r3, camera, 45.0 + ctx.request.azimuth, 10.0 + ctx.request.elevation);
     vtkCamera* view = r3->GetActiveCamera();
-    view->SetPosition(camera.position.x, camera.position.y, camera.position.z);
-    view->SetFocalPoint(camera.target.x, camera.target.y, camera.target.z);
-    view->SetViewUp(camera.up.x, camera.up.y, camera.up.z);
-    view->SetViewAngle(30.0);
-    view->Azimuth(45.0 + ctx.request.azimuth);
-    view->Elevation(10.0 + ctx.request.elevation);
-    view->OrthogonalizeViewUp();
     // Fit the scene, the lights, the camera and the picked point; frusta may reach beyond.
     Bounds fit = bounds;
     for (const Light& l : lights) {

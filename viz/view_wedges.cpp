@@ -19,7 +19,6 @@
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
-#include <vtkSphereSource.h>
 #include <vtkUnsignedCharArray.h>
 
 #include <cmath>
@@ -257,34 +256,15 @@ void build(ViewContext& ctx, ViewResult& result) {
     r3->AddActor(sceneActor);
     const Bounds bounds = scene.bounds(t);
     const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.hi - bounds.lo);
-    if (point) {
-        vtkNew<vtkSphereSource> ball;
-        ball->SetCenter(point->x, point->y, point->z);
-        ball->SetRadius(0.01 * diagonal);
-        ball->SetThetaResolution(16);
-        ball->SetPhiResolution(16);
-        vtkNew<vtkPolyDataMapper> ballMapper;
-        ballMapper->SetInputConnection(ball->GetOutputPort());
-        vtkNew<vtkActor> ballActor;
-        ballActor->SetMapper(ballMapper);
-        ballActor->GetProperty()->SetColor(kPickedRgb.r, kPickedRgb.g, kPickedRgb.b);
-        ballActor->GetProperty()->LightingOff();
-        r3->AddActor(ballActor);
-    }
+    if (point) r3->AddActor(pointMarker(*point, 0.01 * diagonal, kPickedRgb));
     // The blended wedges last: what they cover stays visible through them.
     r3->AddActor(cellsActor(heldData, 6.0f, false, true));
     r3->AddActor(cellsActor(translucentData, 1.0f, false, true));
     // The scene camera's view, orbited a little so the wedges' depth shows; fit the casters, the
     // light and the picked point (the wedges reach down to their bottom plane, beyond the receivers).
     const Camera camera = renderer.camera();
+    orbitSceneCamera(r3, camera, 25.0 + ctx.request.azimuth, 10.0 + ctx.request.elevation);
     vtkCamera* view = r3->GetActiveCamera();
-    view->SetPosition(camera.position.x, camera.position.y, camera.position.z);
-    view->SetFocalPoint(camera.target.x, camera.target.y, camera.target.z);
-    view->SetViewUp(camera.up.x, camera.up.y, camera.up.z);
-    view->SetViewAngle(30.0);
-    view->Azimuth(25.0 + ctx.request.azimuth);
-    view->Elevation(10.0 + ctx.request.elevation);
-    view->OrthogonalizeViewUp();
     Bounds fit;
     for (const glm::vec3& p : edges.positions) fit.extend(p);
     fit.extend(light.position - glm::vec3(light.size));

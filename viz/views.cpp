@@ -33,6 +33,7 @@
 
 #include "error.h"
 #include "gl/loader.h"
+#include <vtkSphereSource.h>
 #include "view_common.h"
 #include "style.h"
 
@@ -148,6 +149,32 @@ std::vector<WorldTriangle> worldTriangles(const Scene& scene, double t, bool cas
     return out;
 }
 
+
+void orbitSceneCamera(vtkRenderer* renderer, const Camera& camera, double azimuth, double elevation) {
+    vtkCamera* view = renderer->GetActiveCamera();
+    view->SetPosition(camera.position.x, camera.position.y, camera.position.z);
+    view->SetFocalPoint(camera.target.x, camera.target.y, camera.target.z);
+    view->SetViewUp(camera.up.x, camera.up.y, camera.up.z);
+    view->SetViewAngle(30.0);
+    view->Azimuth(azimuth);
+    view->Elevation(elevation);
+    view->OrthogonalizeViewUp();
+}
+
+vtkSmartPointer<vtkActor> pointMarker(glm::vec3 point, double radius, glm::vec3 rgb) {
+    vtkNew<vtkSphereSource> ball;
+    ball->SetCenter(point.x, point.y, point.z);
+    ball->SetRadius(radius);
+    ball->SetThetaResolution(16);
+    ball->SetPhiResolution(16);
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputConnection(ball->GetOutputPort());
+    auto actor = vtkSmartPointer<vtkActor>::New();
+    actor->SetMapper(mapper);
+    actor->GetProperty()->SetColor(rgb.r, rgb.g, rgb.b);
+    actor->GetProperty()->LightingOff();
+    return actor;
+}
 
 // ---- FunctionSource -----------------------------------------------------------------------------------
 vtkStandardNewMacro(FunctionSource);

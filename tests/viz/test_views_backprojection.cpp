@@ -34,6 +34,18 @@ namespace {
 
 class BackprojectionView : public testing::GLTest {};
 
+// A polygon cell's signed area in the xy plane (counter-clockwise positive).
+double shoelaceArea(vtkCell* cell) {
+    double twice = 0.0;
+    for (vtkIdType i = 0, n = cell->GetNumberOfPoints(); i < n; ++i) {
+        double a[3], b[3];
+        cell->GetPoints()->GetPoint(i, a);
+        cell->GetPoints()->GetPoint((i + 1) % n, b);
+        twice += a[0] * b[1] - a[1] * b[0];
+    }
+    return 0.5 * twice;
+}
+
 // A renderer of `technique` at w x h with an sm_size map, and a 320x240 request for `view`.
 RenderOptions options(const std::string& technique, int w, int h, const std::string& smSize) {
     RenderOptions o;
@@ -144,15 +156,7 @@ TEST_F(BackprojectionView, CellsHaveTheAreasTheRecordAddsUp) {
                 ASSERT_EQ(poly->GetNumberOfCells(), r.data["cells"].get<vtkIdType>());
                 double sum = 0.0;
                 for (vtkIdType c = 0; c < poly->GetNumberOfCells(); ++c) {
-                    vtkCell* cell = poly->GetCell(c);
-                    double twice = 0.0;
-                    for (vtkIdType i = 0, n = cell->GetNumberOfPoints(); i < n; ++i) {
-                        double a[3], b[3];
-                        cell->GetPoints()->GetPoint(i, a);
-                        cell->GetPoints()->GetPoint((i + 1) % n, b);
-                        twice += a[0] * b[1] - a[1] * b[0];
-                    }
-                    const double area = 0.5 * twice, recorded = areas->GetTuple1(c);
+                    const double area = shoelaceArea(poly->GetCell(c)), recorded = areas->GetTuple1(c);
                     const int kind = int(kinds->GetTuple1(c));
                     // Samples' quads are counter-clockwise, so their signed area is their area.
                     EXPECT_NEAR(area, recorded, 1e-4) << "cell " << c << " kind " << kind;
@@ -223,15 +227,7 @@ TEST_F(BackprojectionView, SsvCellsHaveTheRecordsAreasAndTheImagesVisibility) {
             ASSERT_NE(areas, nullptr);
             double sum = 0.0;
             for (vtkIdType c = 0; c < poly->GetNumberOfCells(); ++c) {
-                vtkCell* cell = poly->GetCell(c);
-                double twice = 0.0;
-                for (vtkIdType i = 0, n = cell->GetNumberOfPoints(); i < n; ++i) {
-                    double a[3], b[3];
-                    cell->GetPoints()->GetPoint(i, a);
-                    cell->GetPoints()->GetPoint((i + 1) % n, b);
-                    twice += a[0] * b[1] - a[1] * b[0];
-                }
-                const double area = 0.5 * twice, recorded = areas->GetTuple1(c);
+                const double area = shoelaceArea(poly->GetCell(c)), recorded = areas->GetTuple1(c);
                 EXPECT_NEAR(area, recorded, 1e-4) << "cell " << c;
                 maxCellError = std::max(maxCellError, std::abs(area - recorded));
                 withInitial += int(kinds->GetTuple1(c)) == 0;
