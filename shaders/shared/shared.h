@@ -12,8 +12,10 @@ using namespace glm;
 using uint = std::uint32_t;
 #define SHARED_FN inline
 #include "shared/backprojection.glsl"
+#include "shared/discontinuity.glsl"
 #include "shared/light_sampling.glsl"
 #include "shared/penumbra.glsl"
+#include "shared/pull_push.glsl"
 #include "shared/shadow_projection.glsl"
 #include "shared/soft_shadow_volumes.glsl"
 #include "shared/square_occluder.glsl"
