@@ -5,9 +5,11 @@
 
 #include <cmath>
 #include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
 #include <random>
 
 #include "error.h"
+#include "gl/buffer.h"
 #include "graph/renderer.h"
 #include "graph/resources.h"
 #include "scene/scene.h"
@@ -261,6 +263,85 @@ TEST_F(PullPushGpu, RefusesPyramidsOfAnotherSize) {
     EXPECT_THROW(PullPush().run(programCache(), t.input, wrong, *t.push, t.output), InternalError);
     Texture r32 = Texture::create2D(37, 23, Format::R32F);
     EXPECT_THROW(PullPush().run(programCache(), r32, *t.pull, *t.push, t.output), InternalError);
+}
+
+// ---- the shared functions, GPU against C++ ---------------------------------------------------------
+
+struct MathCase {
+    glm::ivec4 texel, sizes;
+    glm::vec4 values, corners, position, normal, above, row, below;
+};
+struct MathResult {
+    glm::ivec4 block, taps, ints;
+    glm::vec4 pull, push, blend, edges;
+};
+static_assert(sizeof(MathCase) == 9 * 16 && sizeof(MathResult) == 7 * 16, "std430 layout of tests/visibility/pull_push_discontinuity_math.comp");
+
+class PullPushSharedMathGpu : public testing::GLTest {};
+
+// Every function of pull_push.glsl and discontinuity.glsl, through
+// shaders/tests/visibility/pull_push_discontinuity_math.comp, against the same source compiled as C++.
+TEST_F(PullPushSharedMathGpu, AgreesWithCpu) {
+    using namespace shared;
+    std::mt19937 rng(21u);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<MathCase> cases;
+    for (int n0 : {1, 2, 3, 23, 37, 131, 200})
+        for (int level = 0; level < 9; ++level) {
+            const int fineN = pullPushLevelSize(level, n0), coarseN = pullPushLevelSize(level + 1, n0);
+            for (int x : {0, 1, coarseN - 1, fineN - 1, fineN / 2}) {
+                MathCase c{};
+                c.texel = glm::ivec4(std::max(x, 0), std::max(fineN - 1 - x, 0), coarseN, std::max(1, coarseN - 1));
+                c.sizes = glm::ivec4(fineN, std::max(1, fineN - 1), level, n0);
+                float w = cases.size() % 4 == 0 ? 0.0f : cases.size() % 4 == 1 ? 1.0f : u(rng);
+                c.values = glm::vec4(u(rng), w, cases.size() % 3 == 0 ? 0.0f : 3.0f * u(rng), cases.size() % 3 == 0 ? 0.0f : 2.5f * u(rng));
+                c.corners = glm::vec4(u(rng), u(rng), u(rng), u(rng));
+                c.position = glm::vec4(4.0f * u(rng) - 2.0f, 2.0f * u(rng), 4.0f * u(rng) - 2.0f, 1.0f + 9.0f * u(rng));
+                c.normal = glm::vec4(u(rng) - 0.5f, u(rng), u(rng) - 0.5f, u(rng));
+                if (cases.size() % 5 == 0) c.normal = glm::vec4(0.0f, 0.0f, 1.0f, 0.0f);  // grazing or facing, per the camera
+                c.above = glm::vec4(5.0f + u(rng), 5.0f + u(rng), 5.0f + u(rng), 0.03f);
+                c.row = glm::vec4(5.0f + u(rng), 5.0f + u(rng), 5.0f + u(rng), 0.5f);
+                c.below = glm::vec4(5.0f + u(rng), 5.0f + u(rng), 5.0f + u(rng), 0.06f * u(rng));
+                c.texel.w = int(cases.size() % 10);  // covered pixels 0 .. 9
+                cases.push_back(c);
+            }
+        }
+    const glm::mat4 view = glm::lookAt(glm::vec3(0, 5, 7), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+    Buffer in(cases.size() * sizeof(MathCase), cases.data()), out(cases.size() * sizeof(MathResult));
+    const ShaderProgram& program = programCache().compute("tests/visibility/pull_push_discontinuity_math.comp");
+    in.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+    out.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
+    program.set("count", unsigned(cases.size()));
+    program.set("viewFromWorld", view);
+    program.dispatch(GLuint((cases.size() + 63) / 64));
+    memoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<MathResult> gpu = out.read<MathResult>();
+    // Tolerance: the same float operations; the GPU may fuse multiply-adds and round its own
+    // division, sqrt and normalize: a few ulps of values of order 1 to 10.
+    const float tol = 1e-5f;
+    auto near4 = [&](glm::vec4 a, glm::vec4 b, size_t k, const char* what) {
+        for (int i = 0; i < 4; ++i) EXPECT_NEAR(a[i], b[i], tol * std::max(1.0f, std::abs(b[i]))) << what << "[" << i << "] case " << k;
+    };
+    for (size_t k = 0; k < cases.size(); ++k) {
+        const MathCase& c = cases[k];
+        const MathResult& r = gpu[k];
+        glm::ivec2 p(c.texel.x, c.texel.y), coarse(c.texel.z, c.texel.w), fine(c.sizes.x, c.sizes.y);
+        EXPECT_EQ(r.block, pullBlock(p, coarse, fine)) << k;
+        EXPECT_EQ(r.taps, pushTaps(p, coarse)) << k;
+        glm::ivec2 range = dilationRange(p.x, c.texel.z, c.sizes.w);
+        EXPECT_EQ(r.ints, glm::ivec4(pullPushLevelSize(c.sizes.z, c.sizes.w), range.x, range.y,
+                                     int(coverageDiscontinuity(c.texel.w)))) << k;
+        glm::vec2 values(c.values.x, c.values.y), sums(c.values.z, c.values.w);
+        near4(r.pull, glm::vec4(pullAccumulate(sums, values), pullResult(sums)), k, "pull");
+        glm::vec2 f = pushFractions(p, coarse);
+        near4(r.push, glm::vec4(pushCoarseCoordinate(p.x, coarse.x), f, pushBilinear(c.corners.x, c.corners.y, c.corners.z, c.corners.w, f)), k, "push");
+        glm::vec3 above(c.above), row(c.row), below(c.below), position(c.position), normal(c.normal);
+        glm::vec2 g = sobelGradient(above, row, below), g2 = sobelGradient(row, below, above);
+        near4(r.blend, glm::vec4(pushBlend(values, c.corners.x), cameraDepth(view, position), cosIncidence(view, position, normal),
+                                 relativeDepthEdge(g, c.position.w, c.normal.w)), k, "blend");
+        near4(r.edges, glm::vec4(g, normalEdge(g, g2, values), discontinuityMark(c.below.w, c.values.y, c.above.w, c.row.w)), k, "edges");
+        if (c.values.y == 1.0f) EXPECT_EQ(r.blend.x, c.values.x) << "pushBlend keeps a weight-1 texel exactly, case " << k;
+    }
 }
 
 // ---- discontinuity buffer ---------------------------------------------------------------------------

@@ -3,7 +3,8 @@
 // (test_hard_cases.cpp) and the shared_math / penumbra_math / backprojection_math shaders compare
 // most functions; shaders/tests/shared_every_function.comp runs the rest over a grid of inputs,
 // hard cases included, and this file compares each result with the same source run in C++
-// (shaders/shared/shared.h). A guard fails when a shared function is compared by no test shader.
+// (shaders/shared/shared.h). A guard fails when a shared function is compared by no test shader
+// (shaders/tests and its subfolders).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -229,7 +230,8 @@ TEST(HardCaseGpuCoverage, EverySharedFunctionIsComparedOnTheGpu) {
         return text.str();
     };
     std::string tests;
-    for (const auto& e : fs::directory_iterator(root / "tests")) tests += withoutComments(e.path());
+    for (const auto& e : fs::recursive_directory_iterator(root / "tests"))
+        if (e.is_regular_file()) tests += withoutComments(e.path());
     const std::regex declaration(R"(SHARED_FN\s+[A-Za-z0-9_]+\s+([A-Za-z0-9_]+)\s*\()");
     size_t functions = 0;
     std::vector<std::string> missing;
