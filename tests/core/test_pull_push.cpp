@@ -183,6 +183,8 @@ TEST(PullPushDescriptor, DeclaresThePyramidsAndTheOutput) {
     PassDesc p = pullPushPass("sparse_visibility", "visibility", "screen_spacing > 1");
     ASSERT_EQ(p.creates.size(), 3u);
     EXPECT_EQ(p.reads, std::vector<std::string>{"sparse_visibility"});
+    EXPECT_TRUE(p.wholeFrame);
+    EXPECT_TRUE(p.soft);
     for (int i = 0; i < 2; ++i) {
         EXPECT_EQ(p.creates[size_t(i)].kind, ResourceKind::Pyramid);
         EXPECT_EQ(p.creates[size_t(i)].format, Format::RG32F);
@@ -255,6 +257,37 @@ TEST_F(PullPushGpu, MatchesCpuOnRandomSparseBuffers) {
         }
     }
     std::printf("GPU vs CPU: largest difference %.3g\n", worst);
+}
+
+// The pass through its own declaration: resources allocated as the renderer does (frame size,
+// SizeRule::frame(2)), accessed through a PassContext that allows only what the pass declares.
+TEST_F(PullPushGpu, PassRunsThroughItsDeclaration) {
+    const int w = 45, h = 30;
+    PassDesc desc = pullPushPass("sparse", "filled", "");
+    ResourcePool pool;
+    Texture& sparseTexture = pool.ensure("frame/sparse", ResourceDesc::texture("sparse", Format::RG32F, SizeRule::frame(), "input"), w, h).texture;
+    for (const ResourceDesc& r : desc.creates) {
+        int s = r.size.scaleDown;
+        pool.ensure("frame/" + r.name, r, (w + s - 1) / s, (h + s - 1) / s);
+    }
+    Image vw = randomSparse(w, h, 0.1f, 99u);
+    uploadTexture(sparseTexture, 0, 0, vw);
+    FrameState frame;
+    frame.programs = &programCache();
+    frame.width = w;
+    frame.height = h;
+    std::set<std::string> declared(desc.reads.begin(), desc.reads.end());
+    for (const std::string& name : desc.writes()) declared.insert(name);
+    PassContext ctx(frame, nullptr, pool, "test/pull_push", declared);
+    desc.create()->execute(ctx);
+    std::vector<Image> pull, push;
+    Image cpu = pullPushCpu(vw, &pull, &push);
+    Image gpu = readTexture(pool.find("frame/filled")->texture, 1);
+    for (size_t i = 0; i < cpu.pixelCount(); ++i) ASSERT_NEAR(gpu.data[i], cpu.data[i], 1e-5f) << i;
+    const Texture& pushTexture = pool.find("frame/pull_push.push")->texture;
+    ASSERT_EQ(pushTexture.levels(), int(push.size()));
+    Image top = readTextureLevel(pushTexture, pushTexture.levels() - 1);
+    EXPECT_NEAR(top.data[0], push.back().data[0], 1e-5f);
 }
 
 TEST_F(PullPushGpu, RefusesPyramidsOfAnotherSize) {

@@ -45,6 +45,7 @@ public:
     // From the frame's G-buffer and camera (the pass must read "gbuffer" and "camera"): `out` is
     // R32F at the G-buffer's size, 1 on a discontinuity (widened by `radius` pixels on each side,
     // a (2 radius + 1)^2 max filter), 0 elsewhere. Leaves `out` visible to fetches and read-backs.
+    // Compute dispatches over the whole frame: a pass that runs it should set PassDesc::wholeFrame.
     void run(PassContext& ctx, Texture& out, float depthThreshold = kDefaultDepthThreshold,
              float normalThreshold = kDefaultNormalThreshold, int radius = 0);
     // The same from explicit inputs: `position` and `normal` RGBA32F G-buffer textures.

@@ -166,6 +166,9 @@ PassDesc pullPushPass(const std::string& input, const std::string& output, const
     p.creates = {pull, push, out};
     p.state = PipelineState::fullscreen();
     p.soft = true;
+    // Every pixel depends on the whole frame (the 1x1 level), and compute dispatches ignore the
+    // scissor refineFrame bands with: one run per frame.
+    p.wholeFrame = true;
     p.create = [input, output] { return std::make_unique<PullPushPass>(input, output); };
     return p;
 }

@@ -32,7 +32,7 @@ public:
 // Pass "pull_push": reads `input` (RG32F (v, w), frame size), creates the pyramids
 // "pull_push.pull" and "pull_push.push" and `output` (R32F, frame size). Every created resource
 // carries `appliesWhen` (a condition on the technique's parameters; "" = always). A soft pass, like
-// the rest of a back-projection technique's.
+// the rest of a back-projection technique's, and a wholeFrame one (never run in bands).
 PassDesc pullPushPass(const std::string& input, const std::string& output, const std::string& appliesWhen);
 // The two pyramids as Pyramid internals with channels {"visibility", "weight"}: "pull_push.pull"
 // and "pull_push.push" (file level m is pull-push level m + 1).
