@@ -12,6 +12,7 @@ uniform float lightWidthWorld;  // w_l: the square's width, the disk's diameter
 layout(location = 0) out float kernelSize;        // converged w_k, texels (0: lit by the top level)
 layout(location = 1) out float kernelIterations;  // refinement steps taken
 layout(location = 2) out float classification;    // BP_CLASS_*: 0 umbra, 0.5 penumbra, 1 lit
+layout(location = 3) out float occluderDepth;     // z_occ (sec. 5.1), the smooth occluder depth hint; 0 when lit
 
 const int kMaxRefinements = 32;  // w_k shrinks every step; a 8192^2 map converges in far fewer
 
@@ -20,11 +21,18 @@ vec2 hsmTexel(int level, ivec2 t) {
     return level == 0 ? vec2(texelFetch(shadowMap, t, 0).r) : texelFetch(hsm, t, level - 1).rg;
 }
 
+// The min depth of HSM level `level` at t; the no-caster marker outside the level.
+float levelMinDepth(int level, ivec2 t, int levelSize) {
+    if (t.x < 0 || t.y < 0 || t.x >= levelSize || t.y >= levelSize) return 3.4e38;
+    return hsmTexel(level, t).x;
+}
+
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     kernelSize = 0.0;
     kernelIterations = 0.0;
     classification = BP_CLASS_LIT;
+    occluderDepth = 0.0;
     if (isBackground(pixel)) return;
     BpReceiver r = prepareReceiver(pixel);
     if (r.inside == 0.0) return;
@@ -36,8 +44,10 @@ void main() {
     float w = min(hsmKernelTexels(lightWidthWorld, shadowMapSize, lightTanHalfFov, zMin, zp), 2.0 * shadowMapSize);
     vec2 bounds = vec2(zMin, 3.4e38);
     float planeMin = 0.0;
+    int lastLevel = 0;
     for (int step = 0; step < kMaxRefinements; ++step) {
         int level = hsmRefinementLevel(w, hsmTopLevel);
+        lastLevel = level;
         int levelSize = hsmLevelSize(level, size);
         ivec4 rangeL = levelTexelRange(kernelTexelRange(r.centre, w, size), level, levelSize);
         bounds = vec2(3.4e38, -3.4e38);
@@ -55,4 +65,13 @@ void main() {
     }
     kernelSize = w;
     classification = bpClassify(r, bounds, planeMin);
+    if (classification == BP_CLASS_LIT) return;
+    // z_occ (sec. 5.1): the occluding min depths of the four texels of the refinement level around
+    // p', bilinearly weighted (techniques/hsm/hsm.cpp: computeKernel mirrors it).
+    int n = hsmLevelSize(lastLevel, size);
+    vec2 u = r.centre / float(1 << lastLevel) - 0.5;
+    ivec2 i0 = ivec2(floor(u));
+    vec4 d = vec4(levelMinDepth(lastLevel, i0, n), levelMinDepth(lastLevel, i0 + ivec2(1, 0), n),
+                  levelMinDepth(lastLevel, i0 + ivec2(1, 1), n), levelMinDepth(lastLevel, i0 + ivec2(0, 1), n));
+    occluderDepth = occluderDepthHint(d, u - floor(u), zp - r.bias, bounds.x);
 }

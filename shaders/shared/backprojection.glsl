@@ -473,4 +473,96 @@ SHARED_FN float bpVisibility(float occludedArea, int shape) {
     return clamp(1.0f - occludedArea / bpLightArea(shape), 0.0f, 1.0f);
 }
 
+// ---- 8. light-space multi-resolution (guennebaud2007 sec. 5.1) -----------------------------------
+// A coarse HSM level L stands for a shadow map 2^L times coarser: its texel (i, j) covers the map
+// texels [i 2^L, (i+1) 2^L] x [j 2^L, (j+1) 2^L] and holds their MIN depth (as GBP06 suggests; the
+// paper's sec. 5.1). Level coordinates times 2^L are map texel coordinates (the last texel of an odd
+// size covers one map texel more, hsm.comp; the back-projection ignores that one-texel sliver).
+
+// Eq. 2: the finest level whose kernel is at most t_k of its texels: ceil(log2(w_k / t_k)), 0 when
+// w_k <= t_k, clamped to the top level.
+SHARED_FN int lightLevelForKernel(float kernelTexels, float tk, int topLevel) {
+    if (kernelTexels <= tk) {
+        return 0;
+    }
+    return min(int(ceil(log2(kernelTexels / tk))), topLevel);
+}
+
+// Eq. 3: the continuous level lambda = log2(w~_k / t_k), w~_k the kernel of eq. 1 from the smooth
+// occluder depth z_occ. Clamped to [max(0, lod_2 - 1 + beta), topLevel], lod_2 = eq. 2's level, so
+// the level actually walked (floor(lambda), and floor(lambda) - 1 only inside the blending band)
+// never has a kernel wider than 2 t_k of its texels: the cost stays bounded (sec. 5.2: "the kernel
+// size is bounded") even where z_occ lies far behind the kernel's nearest occluder.
+SHARED_FN float lightLevelContinuous(float smoothKernelTexels, float kernelTexels, float tk, float beta, int topLevel) {
+    float lambda = smoothKernelTexels > 0.0f ? log2(smoothKernelTexels / tk) : 0.0f;
+    // (+ 1e-4: the rounding of lod_2 - 1 + beta must not land inside the band below it)
+    float lo = max(0.0f, float(lightLevelForKernel(kernelTexels, tk, topLevel) - 1) + beta + 1e-4f);
+    return clamp(lambda, min(lo, float(topLevel)), float(topLevel));
+}
+
+// The blending of sec. 5.1's pseudo-code: (lod, the other level, the other level's weight). Within
+// beta of the level below, mix toward it with weight (1 - d / beta) / 2; within beta of the level
+// above, toward it with weight (1 - (1 - d) / beta) / 2. The paper prints the second weight as
+// (d / beta) / 2, which is not continuous (it reaches 1 / (2 beta) at d = 1); ours is 1/2 on both
+// sides of every integer lambda, so v is continuous across transitions. beta = 0: no blending.
+SHARED_FN vec3 lightLevelBlend(float lambda, float beta, int topLevel) {
+    float lod = floor(lambda);
+    float d = lambda - lod;
+    if (beta > 0.0f) {
+        if (d < beta && lod >= 1.0f) {
+            return vec3(lod, lod - 1.0f, 0.5f * (1.0f - d / beta));
+        }
+        if (1.0f - d < beta && lod + 1.0f <= float(topLevel)) {
+            return vec3(lod, lod + 1.0f, 0.5f * (1.0f - (1.0f - d) / beta));
+        }
+    }
+    return vec3(lod, lod, 0.0f);
+}
+
+// The continuous occluder depth z_occ of sec. 5.1 ("linear filtering of the occluder depth values
+// fetched in the appropriate HSM level"): the bilinear weights at f (the fractional position of p'
+// among the four texel centres 00, 10, 11, 01 of the kernel's refinement level) over the texels
+// whose min depth is nearer than zLimit (z_p - bias), renormalised; zMin (the kernel's min) when
+// none is, and never nearer than zMin, so the smooth kernel w~_k is at most w_k. Only a hint: the
+// kernel itself is still eq. 1 from zMin.
+SHARED_FN float occluderDepthHint(vec4 depths, vec2 f, float zLimit, float zMin) {
+    vec4 w = vec4((1.0f - f.x) * (1.0f - f.y), f.x * (1.0f - f.y), f.x * f.y, (1.0f - f.x) * f.y);
+    float sw = 0.0f;
+    float sz = 0.0f;
+    if (depths.x < zLimit) {
+        sw += w.x;
+        sz += w.x * depths.x;
+    }
+    if (depths.y < zLimit) {
+        sw += w.y;
+        sz += w.y * depths.y;
+    }
+    if (depths.z < zLimit) {
+        sw += w.z;
+        sz += w.z * depths.z;
+    }
+    if (depths.w < zLimit) {
+        sw += w.w;
+        sz += w.w * depths.w;
+    }
+    float z = sw > 0.0f ? sz / sw : zMin;
+    return max(z, zMin);
+}
+
+// Whether the sample of level `level` at texel t, of min depth zSample, occludes the receiver: the
+// level-0 test (bpSampleOccludes) at the texel's centre in map coordinates with the depth bias in
+// texels of the level, i.e. times 2^level, since the min over a texel 2^level map texels wide of the
+// receiver's own tilted surface lies up to 2^level times further from the plane at its centre. On
+// level 0 this is exactly bpSampleOccludes.
+SHARED_FN bool bpLevelSampleOccludes(BpReceiver r, int level, ivec2 t, float zSample, float smSize, float tanHalfFov) {
+    float s = float(1 << level);
+    float bias = r.bias * s;
+    if (zSample >= r.position.z - bias) {
+        return false;
+    }
+    vec2 centre = vec2((float(t.x) + 0.5f) * s, (float(t.y) + 0.5f) * s);
+    float zPlane = receiverPlaneDepth(r.normal, r.position, centre, smSize, tanHalfFov);
+    return sampleOccludes(zSample, r.position.z, zPlane, bias);
+}
+
 #endif

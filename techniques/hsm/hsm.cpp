@@ -48,8 +48,9 @@ public:
         Texture& size = ctx.texture("kernel_size");
         Texture& iterations = ctx.texture("kernel_iterations");
         Texture& classes = ctx.texture("classification");
+        Texture& occluder = ctx.texture("occluder_depth");
         if (fboTexture_ != size.id()) {
-            fbo_ = Framebuffer({&size, &iterations, &classes}, nullptr);
+            fbo_ = Framebuffer({&size, &iterations, &classes, &occluder}, nullptr);
             fboTexture_ = size.id();
         }
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "backprojection/kernel.frag");
@@ -83,6 +84,18 @@ std::vector<ParamDesc> backprojectionParams() {
                   "reach w_k = 108 at most at sm_size 1024",
                   ""};
     params.push_back(cap);
+    ParamDesc multires{"light_multires", "", ParamDesc::Type::Bool, "", 0.0, 0, 1, 1,
+                       "light-space multi-resolution (guennebaud2007 sec. 5.1): walk the finest HSM level whose kernel "
+                       "is at most t_k of its texels instead of the shadow map itself, so the cost no longer grows "
+                       "with the penumbra (off by default until the lessons' and figures' expectations are re-measured "
+                       "with it on: techniques/ssm-contour/README.md)", ""};
+    params.push_back(multires);
+    ParamDesc tk{"t_k", "t_k", ParamDesc::Type::Float, "texels", 16.0, 2.0, 256.0, 1.0,
+                 "kernel threshold t_k of eq. 2: the largest kernel, in texels of the level walked (2 t_k at most "
+                 "outside the blending band); 16 keeps ssm-contour within 0.002 RMSE of the full-resolution walk on "
+                 "every scene in assets/ (techniques/ssm-contour/README.md)",
+                 "light_multires == true"};
+    params.push_back(tk);
     return params;
 }
 
@@ -117,6 +130,10 @@ PassDesc kernelPass() {
                               "refinement steps per pixel (HSM levels read after the first estimate)"),
         ResourceDesc::texture("classification", Format::R32F, SizeRule::frame(),
                               "0 umbra, 0.5 penumbra, 1 lit (from the kernel's HSM depth bounds)"),
+        ResourceDesc::texture("occluder_depth", Format::R32F, SizeRule::frame(),
+                              "z_occ (guennebaud2007 sec. 5.1): the occluding min depths of the refinement level's "
+                              "four texels around p', bilinearly weighted; a smooth hint for the level (eq. 3) and "
+                              "the penumbra size (eq. 4); 0 when lit"),
     };
     p.soft = true;
     p.create = [] { return std::make_unique<KernelPass>(); };
@@ -140,12 +157,33 @@ std::vector<InternalDesc> backprojectionInternals() {
                    "kernel refinement steps per pixel", "", {}, {}, {}, {}});
     out.push_back({"classification", InternalDesc::Kind::Image, "classification", {"class"},
                    "0 umbra, 0.5 penumbra, 1 lit", "", {}, {}, {}, {}});
+    out.push_back({"occluder_depth", InternalDesc::Kind::Image, "occluder_depth", {"z_occ"},
+                   "smooth occluder depth z_occ per pixel (guennebaud2007 sec. 5.1), light-view depth; 0 when lit", "",
+                   {}, {}, {}, {}});
     return out;
 }
 
+ResourceDesc lightLevelsResource() {
+    ResourceDesc r = ResourceDesc::texture("light_levels", Format::RGBA32F, SizeRule::frame(),
+                                           "light-space multi-resolution per pixel (guennebaud2007 sec. 5.1): lambda "
+                                           "(eq. 3; ssm-gbp06: eq. 2's level), the HSM level walked, the level blended "
+                                           "in and its weight; -1 on lit and umbra pixels");
+    r.appliesWhen = "light_multires == true";
+    return r;
+}
+
+InternalDesc lightLevelsInternal() {
+    InternalDesc i{"light_levels", InternalDesc::Kind::Image, "light_levels", {"lambda", "level", "blend_level", "blend_weight"},
+                   "lambda (eq. 3), the HSM level walked, the level blended in and its weight (sec. 5.1); -1 where "
+                   "nothing was back-projected (lit, umbra)", "", {}, {}, {}, {}};
+    i.appliesWhen = "light_multires == true";
+    return i;
+}
+
 std::vector<std::string> backprojectionVisibilityReads() {
-    std::vector<std::string> reads = {"gbuffer", "light", "kernel_size", "classification", "param:bias_const",
-                                      "param:bias_slope", "param:max_kernel"};
+    std::vector<std::string> reads = {"gbuffer", "light", "hsm", "kernel_size", "classification", "occluder_depth",
+                                      "param:bias_const", "param:bias_slope", "param:max_kernel",
+                                      "param:light_multires", "param:t_k"};
     for (const std::string& r : shadowTestReads()) reads.push_back(r);
     return reads;
 }
@@ -219,6 +257,20 @@ bool BackprojectionCpu::occludes(const BpReceiver& r, glm::ivec2 t, float z) con
     return bpSampleOccludes(r, glm::vec2(t) + 0.5f, z, float(size), view.tanHalfFov);
 }
 
+float BackprojectionCpu::levelDepth(int level, glm::ivec2 t) const {
+    int n = levelSize(level);
+    if (t.x < 0 || t.y < 0 || t.x >= n || t.y >= n) return kNoCaster;
+    return hsmAt(level, t).x;
+}
+
+bool BackprojectionCpu::levelOccludes(const BpReceiver& r, int level, glm::ivec2 t, float z) const {
+    return bpLevelSampleOccludes(r, level, t, z, float(size), view.tanHalfFov);
+}
+
+glm::vec2 BackprojectionCpu::backprojectLevel(const BpReceiver& r, glm::vec2 u, int level, float z) const {
+    return backprojectToLight(r.position, u * float(1 << level), z, float(size), view.tanHalfFov, lightHalfSize);
+}
+
 KernelResult computeKernel(const BackprojectionCpu& c, const BpReceiver& r) {
     KernelResult k;
     const float smSize = float(c.size);
@@ -228,8 +280,10 @@ KernelResult computeKernel(const BackprojectionCpu& c, const BpReceiver& r) {
     float w = std::min(hsmKernelTexels(c.lightWidth, smSize, c.view.tanHalfFov, k.globalMin, zp), 2.0f * smSize);
     glm::vec2 bounds(k.globalMin, 3.4e38f);
     float planeMin = 0.0f;
+    int lastLevel = 0;
     for (int step = 0; step < 32; ++step) {  // kernel.frag's kMaxRefinements
         int level = hsmRefinementLevel(w, c.topLevel);
+        lastLevel = level;
         int levelSize = c.levelSize(level);
         glm::ivec4 rangeL = levelTexelRange(kernelTexelRange(r.centre, w, c.size), level, levelSize);
         bounds = glm::vec2(3.4e38f, -3.4e38f);
@@ -257,6 +311,14 @@ KernelResult computeKernel(const BackprojectionCpu& c, const BpReceiver& r) {
     }
     k.texels = w;
     k.classification = bpClassify(r, bounds, planeMin);
+    if (k.classification == BP_CLASS_LIT) return k;
+    // z_occ, as kernel.frag.
+    glm::vec2 u = r.centre / float(1 << lastLevel) - 0.5f;
+    glm::ivec2 i0 = glm::ivec2(glm::floor(u));
+    glm::vec4 d(c.levelDepth(lastLevel, i0), c.levelDepth(lastLevel, i0 + glm::ivec2(1, 0)),
+                c.levelDepth(lastLevel, i0 + glm::ivec2(1, 1)), c.levelDepth(lastLevel, i0 + glm::ivec2(0, 1)));
+    k.occluderDepth = occluderDepthHint(d, u - glm::floor(u), zp - r.bias, bounds.x);
+    k.hintLevel = lastLevel;
     return k;
 }
 
@@ -267,7 +329,20 @@ const char* className(float c) {
 nlohmann::json finite(float v) { return std::isfinite(v) && std::abs(v) < 1e30f ? nlohmann::json(v) : nlohmann::json(nullptr); }
 }  // namespace
 
-PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel) {
+glm::vec3 chooseLightLevels(const BackprojectionCpu& c, const BpReceiver& r, float w, float zOcc, float tk, float beta,
+                            float* lambda) {
+    if (beta < 0.0f) {
+        int lod = lightLevelForKernel(w, tk, c.topLevel);
+        if (lambda) *lambda = float(lod);
+        return glm::vec3(float(lod), 0.0f, 0.0f);
+    }
+    float smoothKernel = hsmKernelTexels(c.lightWidth, float(c.size), c.view.tanHalfFov, zOcc, r.position.z);
+    float l = lightLevelContinuous(smoothKernel, w, tk, beta, c.topLevel);
+    if (lambda) *lambda = l;
+    return lightLevelBlend(l, beta, c.topLevel);
+}
+
+PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel, float beta) {
     PixelRecordStart s;
     nlohmann::json& j = s.record;
     int row = ctx.height() - 1 - pixel.y;
@@ -316,6 +391,7 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel) {
     float used = std::min(s.kernel.texels, c.maxKernel);
     s.range = kernelTexelRange(r.centre, used, c.size);
     j["kernel"] = {{"global_min", finite(s.kernel.globalMin)},
+                   {"occluder_depth", finite(s.kernel.occluderDepth)},
                    {"texels", s.kernel.texels},
                    {"used_texels", used},
                    {"iterations", s.kernel.iterations},
@@ -324,17 +400,45 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel) {
     j["classification"] = className(s.kernel.classification);
     if (s.kernel.classification == BP_CLASS_UMBRA) s.initialArea = lightArea;
     s.done = s.kernel.classification != BP_CLASS_PENUMBRA;
+    if (!s.done && ctx.param("light_multires") != 0.0) {
+        float tk = float(ctx.param("t_k")), lambda = 0.0f;
+        glm::vec3 levels = chooseLightLevels(c, r, used, s.kernel.occluderDepth, tk, beta, &lambda);
+        s.level = int(levels.x);
+        s.blendLevel = int(levels.y);
+        s.blendWeight = levels.z;
+        j["light_levels"] = {{"t_k", tk},
+                             {"lod_eq2", lightLevelForKernel(used, tk, c.topLevel)},
+                             {"lambda", lambda},
+                             {"level", s.level},
+                             {"blend_level", s.blendLevel},
+                             {"blend_weight", s.blendWeight},
+                             {"level_texel_range", [&] {
+                                  int n = c.levelSize(s.level);
+                                  glm::ivec4 l = levelTexelRange(s.range, s.level, n);
+                                  return nlohmann::json::array({l.x, l.y, l.z, l.w});
+                              }()}};
+    } else if (!s.done) {
+        j["light_levels"] = nullptr;  // light_multires off: the map itself
+    }
     return s;
 }
 
-void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& s, float itemsArea) {
+void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& s, float itemsArea,
+                       const BlendedLevelArea* blended) {
     nlohmann::json& j = s.record;
     if (j.contains("background")) return;
     float occluded = s.initialArea + itemsArea;
     j["initial_area"] = s.initialArea;
     j["occluded_area"] = occluded;
     j["front_fraction"] = s.front;
-    j["visibility_recomputed"] = bpVisibility(occluded, s.cpu.shape) * s.front;
+    float v = bpVisibility(occluded, s.cpu.shape);
+    if (blended && s.blendWeight > 0.0f) {
+        float other = blended->initialArea + blended->itemsArea;
+        j["blend_initial_area"] = blended->initialArea;
+        j["blend_occluded_area"] = other;
+        v = v + (bpVisibility(other, s.cpu.shape) - v) * s.blendWeight;  // GLSL mix
+    }
+    j["visibility_recomputed"] = v * s.front;
     j["visibility"] = ctx.pixelValue("visibility", pixel);
 }
 
@@ -366,29 +470,44 @@ std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema() {
                        "iterations, steps [{level, texels [x0,y0,x1,y1] of that level, min, max, refined_texels}], "
                        "texel_range (level-0 texels walked)"},
             {"classification", "lit, umbra or penumbra (from the kernel's depth bounds)"},
+            {"light_levels", "light-space multi-resolution (sec. 5.1; null when light_multires is off): t_k, "
+                             "lod_eq2 (eq. 2), lambda (eq. 3 from kernel.occluder_depth; GBP06: eq. 2's level), "
+                             "level walked, blend_level and blend_weight (sec. 5.1's pseudo-code), "
+                             "level_texel_range [x0,y0,x1,y1] of the level walked"},
             {"initial_area", "occluded area before the list: the full light for umbra (and, for ssm-contour, when "
                              "the contour inside test occludes the light centre), else 0"},
-            {"occluded_area", "initial_area + the list's areas"},
+            {"occluded_area", "initial_area + the list's areas (the level walked)"},
+            {"blend_initial_area", "when blend_weight > 0: the blended level's initial area"},
+            {"blend_occluded_area", "when blend_weight > 0: the blended level's occluded area (its list is not "
+                                    "recorded)"},
             {"front_fraction", "the fraction of the light in front of the receiver's tangent plane (the visibility "
                                "convention, shaders/shared/tangent_plane.glsl)"},
-            {"visibility_recomputed", "clamp(1 - occluded_area / light area, 0, 1) x front_fraction, on the CPU"},
+            {"visibility_recomputed", "clamp(1 - occluded_area / light area, 0, 1), mixed with the blended level's by "
+                                      "blend_weight, x front_fraction, on the CPU"},
             {"visibility", "this light's visibility in the image (GPU)"}};
 }
 
 std::vector<std::string> backprojectionRecordReads() {
     std::vector<std::string> reads = {"gbuffer", "light", "hsm", "visibility", "param:bias_const", "param:bias_slope",
-                                      "param:max_kernel"};
+                                      "param:max_kernel", "param:light_multires", "param:t_k"};
     for (const std::string& r : shadowTestReads()) reads.push_back(r);
     return reads;
 }
 
 void BackprojectionVisibilityPass::execute(PassContext& ctx) {
     Texture& visibility = ctx.texture("visibility");
-    if (fboTexture_ != visibility.id()) {
-        fbo_ = Framebuffer({&visibility}, nullptr);
-        fboTexture_ = visibility.id();
+    // Two variants (visibility_common.glsl): the level arithmetic only where light_multires is on.
+    const bool multires = ctx.param("light_multires") != 0.0;
+    Texture* levels = multires ? &ctx.texture("light_levels") : nullptr;
+    GLuint key = visibility.id() ^ (levels ? levels->id() << 16 : 0u);
+    if (fboTexture_ != key) {
+        if (levels) fbo_ = Framebuffer({&visibility, levels}, nullptr);
+        else fbo_ = Framebuffer({&visibility}, nullptr);
+        fboTexture_ = key;
     }
-    const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", shader_);
+    std::vector<std::string> defines;
+    if (multires) defines.push_back("LIGHT_MULTIRES");
+    const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", shader_, defines);
     program.use();
     const Texture& map = ctx.texture(shadowTestMap(ctx));
     setReceiverUniforms(ctx, program, map.width());
@@ -398,6 +517,14 @@ void BackprojectionVisibilityPass::execute(PassContext& ctx) {
     program.set("kernelSize", 4);
     glBindTextureUnit(5, ctx.texture("classification").id());
     program.set("classification", 5);
+    const Texture& hsm = ctx.texture("hsm");
+    glBindTextureUnit(6, hsm.id());
+    program.set("hsm", 6);
+    program.set("hsmTopLevel", hsm.levels());
+    glBindTextureUnit(7, ctx.texture("occluder_depth").id());
+    program.set("occluderDepth", 7);
+    program.set("lightWidthWorld", bpLightWidth(bpLightShape(ctx.light()), ctx.light().size));
+    program.set("kernelThreshold", float(ctx.param("t_k")));
     program.set("lightShape", bpLightShape(ctx.light()));
     program.set("lightHalfSize", bpLightHalfSize(ctx.light()));
     program.set("maxKernelTexels", float(ctx.param("max_kernel")));

@@ -22,6 +22,9 @@ PassDesc hsmPass();
 PassDesc kernelPass();
 // Internals of both: the shadow map, every HSM level (min, max), kernel size, iterations, classes.
 std::vector<InternalDesc> backprojectionInternals();
+// The visibility pass's second output where light_multires is on, and its internal.
+ResourceDesc lightLevelsResource();
+InternalDesc lightLevelsInternal();
 // What a visibility pass of either technique reads besides its own parameters.
 std::vector<std::string> backprojectionVisibilityReads();
 
@@ -72,6 +75,12 @@ struct BackprojectionCpu {
     int levelSize(int level) const;
     shared::BpReceiver receiver(const glm::vec3& worldPosition, const glm::vec3& worldNormal) const;
     bool occludes(const shared::BpReceiver& r, glm::ivec2 t, float z) const;
+    // The light-space multi-resolution's access (sec. 5.1; visibility_common.glsl): the min depth of
+    // level `level` at its texel t (no caster outside it), its occlusion test, and level
+    // coordinates u at depth z back-projected onto the light.
+    float levelDepth(int level, glm::ivec2 t) const;
+    bool levelOccludes(const shared::BpReceiver& r, int level, glm::ivec2 t, float z) const;
+    glm::vec2 backprojectLevel(const shared::BpReceiver& r, glm::vec2 u, int level, float z) const;
 };
 
 // One refinement step of the kernel: the HSM level read, its texels (x0, y0, x1, y1) and their
@@ -87,6 +96,8 @@ struct KernelResult {
     int iterations = 0;
     float classification = shared::BP_CLASS_LIT;
     float globalMin = 0.0f;  // the top level's min (first estimate)
+    float occluderDepth = 0.0f;  // z_occ (sec. 5.1), 0 when lit
+    int hintLevel = 0;           // the level z_occ was read at (the last refinement step's)
     std::vector<KernelStep> steps;
 };
 // The same steps as shaders/backprojection/kernel.frag.
@@ -105,12 +116,27 @@ struct PixelRecordStart {
     glm::ivec4 range{0};  // level-0 texels the visibility loop walks (kernel clamped by max_kernel)
     float initialArea = 0.0f;
     float front = 1.0f;  // fraction of the light in front of the receiver's tangent plane
+    // The light-space multi-resolution (sec. 5.1, visibility_levels.glsl): the level walked, the
+    // other level blended in and its weight (0: none); all 0 when light_multires is off.
+    int level = 0, blendLevel = 0;
+    float blendWeight = 0.0f;
 };
-PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel);
-// Adds "initial_area", "occluded_area" = initial + sum of the items' areas, "front_fraction",
-// "visibility_recomputed" (the back-projected visibility times front_fraction, as the shader) and
-// the image's "visibility".
-void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& start, float itemsArea);
+// `beta` is the blending band of ssm-contour (eq. 3 and the pseudo-code); a negative beta picks
+// GBP06's level of eq. 2 without blending.
+PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel, float beta);
+// The occluded area of the level blended in (initial area and the items' sum), when there is one.
+struct BlendedLevelArea {
+    float initialArea = 0.0f, itemsArea = 0.0f;
+};
+// Adds "initial_area", "occluded_area" = initial + sum of the items' areas (the level walked),
+// "front_fraction", "visibility_recomputed" (the back-projected visibility, blended with the other
+// level's when there is one, times front_fraction, as the shader) and the image's "visibility".
+void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& start, float itemsArea,
+                       const BlendedLevelArea* blended = nullptr);
+// The levels of visibility_levels.glsl's chooseLevels: (lod, other, weight), and lambda (eq. 3;
+// for GBP06, eq. 2's level) through `lambda`.
+glm::vec3 chooseLightLevels(const BackprojectionCpu& c, const shared::BpReceiver& r, float w, float zOcc, float tk,
+                            float beta, float* lambda);
 // The record's fields shared by both techniques (each adds its list: "samples" or "edges").
 std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema();
 // The capped kernel of both back-projection techniques: w_k against max_kernel.

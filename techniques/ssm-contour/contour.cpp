@@ -11,8 +11,8 @@ using namespace shared;
 
 namespace {
 
-// One block's edges, as contour.frag computes them: the 3D extremities (texel coordinates and the
-// holders' depths) and their back-projections onto the light.
+// One block's edges, as contour_area.glsl computes them: the 3D extremities (map texel coordinates
+// and the holders' depths) and their back-projections onto the light.
 struct BlockEdge {
     glm::vec2 texelA, texelB;
     float depthA = 0.0f, depthB = 0.0f;
@@ -23,29 +23,76 @@ struct Block {
     int count = 0;
     BlockEdge edges[2];
 };
-Block evaluateBlock(const BackprojectionCpu& c, const BpReceiver& r, glm::ivec2 corner, float t) {
+Block evaluateBlock(const BackprojectionCpu& c, const BpReceiver& r, int level, glm::ivec2 corner, float t) {
     const glm::ivec2 offsets[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     float depths[4];
     Block b;
     for (int k = 0; k < 4; ++k) {
         glm::ivec2 s = corner + offsets[k];
-        depths[k] = c.depthAt(s);
-        if (c.occludes(r, s, depths[k])) b.mask |= 1 << k;
+        depths[k] = c.levelDepth(level, s);
+        if (c.levelOccludes(r, level, s, depths[k])) b.mask |= 1 << k;
     }
     b.count = contourRule(b.mask).x;
     glm::vec2 centre = glm::vec2(corner) + 1.0f;
+    const float scale = float(1 << level);
     for (int which = 0; which < b.count; ++which) {
         glm::vec4 e = contourEdge(b.mask, t, which);
         glm::ivec2 holders = contourEdgeHolders(b.mask, which);
         BlockEdge& out = b.edges[which];
-        out.texelA = centre + glm::vec2(e.x, e.y);
-        out.texelB = centre + glm::vec2(e.z, e.w);
+        glm::vec2 ua = centre + glm::vec2(e.x, e.y), ub = centre + glm::vec2(e.z, e.w);
+        out.texelA = ua * scale;
+        out.texelB = ub * scale;
         out.depthA = depths[holders.x];
         out.depthB = depths[holders.y];
-        out.a = backprojectToLight(r.position, out.texelA, out.depthA, float(c.size), c.view.tanHalfFov, c.lightHalfSize);
-        out.b = backprojectToLight(r.position, out.texelB, out.depthB, float(c.size), c.view.tanHalfFov, c.lightHalfSize);
+        out.a = c.backprojectLevel(r, ua, level, out.depthA);
+        out.b = c.backprojectLevel(r, ub, level, out.depthB);
     }
     return b;
+}
+
+// contour_area.glsl's occludedAreaAtLevel on the CPU: the initial area (Fig. 5b) into `initial`,
+// the edges' sum returned; `centreBlock` and `edges` (when given) receive the record's lists.
+float contourLevelArea(const BackprojectionCpu& c, const BpReceiver& rc, glm::ivec4 range0, int level, float t0,
+                       float* initial, nlohmann::json* centreBlock, nlohmann::json* edges) {
+    const float t = level == 0 ? t0 : 1.0f;
+    const int n = c.levelSize(level);
+    glm::ivec4 range = levelTexelRange(range0, level, n);
+    glm::ivec2 corner = glm::ivec2(glm::floor(rc.centre / float(1 << level) - 0.5f));
+    Block centre = evaluateBlock(c, rc, level, corner, t);
+    float turns[2] = {0.0f, 0.0f};
+    for (int which = 0; which < centre.count; ++which) turns[which] = edgeTurn(centre.edges[which].a, centre.edges[which].b);
+    bool occluded = contourCentreOccluded(centre.mask, t, turns[0], turns[1]);
+    *initial = occluded ? bpLightArea(c.shape) : 0.0f;
+    if (centreBlock)
+        *centreBlock = {{"level", level},
+                        {"corner", {corner.x, corner.y}},
+                        {"mask", centre.mask},
+                        {"turns", {turns[0], turns[1]}},
+                        {"centre_occluded", occluded}};
+    float sum = 0.0f;
+    for (int by = range.y - 1; by <= range.w; ++by)
+        for (int bx = range.x - 1; bx <= range.z; ++bx) {
+            Block b = evaluateBlock(c, rc, level, {bx, by}, t);
+            for (int which = 0; which < b.count; ++which) {
+                const BlockEdge& e = b.edges[which];
+                float area = edgeOccludedArea(c.shape, e.a, e.b);
+                sum += area;
+                if (!edges) continue;
+                glm::vec2 clipped = clipSegmentToLight(c.shape, e.a, e.b);
+                if (clipped.x > clipped.y) continue;  // off the light: contributes nothing
+                edges->push_back({{"block", {bx, by}},
+                                  {"level", level},
+                                  {"mask", b.mask},
+                                  {"which", which},
+                                  {"texel_a", {e.texelA.x, e.texelA.y, e.depthA}},
+                                  {"texel_b", {e.texelB.x, e.texelB.y, e.depthB}},
+                                  {"a", {e.a.x, e.a.y}},
+                                  {"b", {e.b.x, e.b.y}},
+                                  {"orientation", edgeTurn(e.a, e.b) > 0.0f ? "ccw" : "cw"},
+                                  {"signed_area", area}});
+            }
+        }
+    return sum;
 }
 
 InternalDesc contourPixelRecord() {
@@ -54,62 +101,37 @@ InternalDesc contourPixelRecord() {
     r.kind = InternalDesc::Kind::Record;
     r.doc = "the picked pixel's kernel, contour inside test and back-projected contour edges (--pixel x,y)";
     r.schema = backprojectionRecordSchema();
-    r.schema.push_back({"centre_block", "the 2x2 block around p' (Fig. 5b): corner texel, mask, edges' turns, "
-                                        "centre_occluded (then initial_area is the full light)"});
-    r.schema.push_back({"edges", "contour edges reaching the light: block corner texel, mask, which (0/1), 3D "
-                                 "extremities [texel x, y, depth], a and b in light coordinates (occluder on the left), "
+    r.schema.push_back({"centre_block", "the 2x2 block around p' (Fig. 5b) on the level walked: level, corner "
+                                        "texel of that level, mask, edges' turns, centre_occluded (then initial_area is "
+                                        "the full light)"});
+    r.schema.push_back({"edges", "contour edges reaching the light, on the level walked: block corner texel of that "
+                                 "level, level, mask, which (0/1), 3D extremities [map texel x, y, depth], a and b in "
+                                 "light coordinates (occluder on the left), "
                                  "orientation (ccw: the light centre on the edge's left), signed area (occluded light "
                                  "area it adds, light coordinates)"});
     r.reads = backprojectionRecordReads();
     r.reads.push_back("param:t");
+    r.reads.push_back("param:beta");
     r.record = [](PassContext& ctx, glm::ivec2 pixel) {
-        PixelRecordStart s = startPixelRecord(ctx, pixel);
+        const float beta = float(ctx.param("beta"));
+        PixelRecordStart s = startPixelRecord(ctx, pixel, beta);
         float sum = 0.0f;
+        BlendedLevelArea blended;
         if (!s.record.contains("background")) {
             s.record["centre_block"] = nullptr;  // lit and umbra pixels integrate nothing
             s.record["edges"] = nlohmann::json::array();
         }
         if (!s.done) {
-            const BackprojectionCpu& c = s.cpu;
-            const BpReceiver& rc = s.receiver;
             const float t = float(ctx.param("t"));
-            // Initialisation (Fig. 5b).
-            glm::ivec2 corner = glm::ivec2(glm::floor(rc.centre - 0.5f));
-            Block centre = evaluateBlock(c, rc, corner, t);
-            float turns[2] = {0.0f, 0.0f};
-            for (int which = 0; which < centre.count; ++which)
-                turns[which] = edgeTurn(centre.edges[which].a, centre.edges[which].b);
-            bool occluded = contourCentreOccluded(centre.mask, t, turns[0], turns[1]);
-            if (occluded) s.initialArea = bpLightArea(c.shape);
-            s.record["centre_block"] = {{"corner", {corner.x, corner.y}},
-                                        {"mask", centre.mask},
-                                        {"turns", {turns[0], turns[1]}},
-                                        {"centre_occluded", occluded}};
-            // The kernel's blocks, in contour.frag's order.
-            nlohmann::json edges = nlohmann::json::array();
-            for (int by = s.range.y - 1; by <= s.range.w; ++by)
-                for (int bx = s.range.x - 1; bx <= s.range.z; ++bx) {
-                    Block b = evaluateBlock(c, rc, {bx, by}, t);
-                    for (int which = 0; which < b.count; ++which) {
-                        const BlockEdge& e = b.edges[which];
-                        float area = edgeOccludedArea(c.shape, e.a, e.b);
-                        sum += area;
-                        glm::vec2 range = clipSegmentToLight(c.shape, e.a, e.b);
-                        if (range.x > range.y) continue;  // off the light: contributes nothing
-                        edges.push_back({{"block", {bx, by}},
-                                         {"mask", b.mask},
-                                         {"which", which},
-                                         {"texel_a", {e.texelA.x, e.texelA.y, e.depthA}},
-                                         {"texel_b", {e.texelB.x, e.texelB.y, e.depthB}},
-                                         {"a", {e.a.x, e.a.y}},
-                                         {"b", {e.b.x, e.b.y}},
-                                         {"orientation", edgeTurn(e.a, e.b) > 0.0f ? "ccw" : "cw"},
-                                         {"signed_area", area}});
-                    }
-                }
+            nlohmann::json centre, edges = nlohmann::json::array();
+            sum = contourLevelArea(s.cpu, s.receiver, s.range, s.level, t, &s.initialArea, &centre, &edges);
+            s.record["centre_block"] = centre;
             s.record["edges"] = edges;
+            if (s.blendWeight > 0.0f)
+                blended.itemsArea =
+                    contourLevelArea(s.cpu, s.receiver, s.range, s.blendLevel, t, &blended.initialArea, nullptr, nullptr);
         }
-        finishPixelRecord(ctx, pixel, s, sum);
+        finishPixelRecord(ctx, pixel, s, sum, &blended);
         return s.record;
     };
     return r;
@@ -133,6 +155,11 @@ const TechniqueDesc& ssmContourTechnique() {
                     "recommended, most probable choice; 1 shrinks to occluder centres, -1 grows to background centres",
                     ""};
         d.params.push_back(t);
+        ParamDesc beta{"beta", "beta", ParamDesc::Type::Float, "", 0.05, 0.0, 0.5, 0.01,
+                       "width of the band of the continuous level lambda (eq. 3) where two HSM levels are blended "
+                       "(guennebaud2007 sec. 5.1: \"beta = 0.05 is a typical choice\"); 0 shows the seams of Fig. 6a",
+                       "light_multires == true"};
+        d.params.push_back(beta);
         PassDesc visibility;
         visibility.name = "visibility";
         visibility.doc = "contour edges of the kernel's occluding samples (2x2 rules, t), back-projected, clipped and "
@@ -140,16 +167,21 @@ const TechniqueDesc& ssmContourTechnique() {
                          "(guennebaud2007 sec. 4)";
         visibility.reads = backprojectionVisibilityReads();
         visibility.reads.push_back("param:t");
-        visibility.creates = {visibilityResource()};
+        visibility.reads.push_back("param:beta");
+        visibility.creates = {visibilityResource(), lightLevelsResource()};
         visibility.soft = true;
         visibility.create = [] {
             return std::make_unique<BackprojectionVisibilityPass>(
                 "backprojection/contour.frag",
-                [](PassContext& ctx, const ShaderProgram& p) { p.set("contourT", float(ctx.param("t"))); });
+                [](PassContext& ctx, const ShaderProgram& p) {
+                    p.set("contourT", float(ctx.param("t")));
+                    p.set("contourBeta", ctx.param("light_multires") != 0.0 ? float(ctx.param("beta")) : 0.0f);
+                });
         };
         d.passes = {shadowMapPass(), hsmPass(), kernelPass(), visibility};
         d.kernelCaps = {backprojectionKernelCap()};
         d.internals = backprojectionInternals();
+        d.internals.push_back(lightLevelsInternal());
         d.internals.push_back(contourPixelRecord());
         return d;
     }();

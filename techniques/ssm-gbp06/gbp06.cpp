@@ -11,28 +11,27 @@ using namespace shared;
 
 namespace {
 
-// The sample quad of texel t at depth z back-projected from r, with GBP06's gap filling: the same
-// steps as shaders/backprojection/gbp06.frag. Returns (x0, y0, x1, y1) in light coordinates and
-// whether the right and top sides were extended.
+// The sample quad of texel t of HSM level `level` at min depth z back-projected from r, with GBP06's
+// gap filling: the same steps as shaders/backprojection/gbp06_area.glsl. Returns (x0, y0, x1, y1) in
+// light coordinates and whether the right and top sides were extended.
 struct SampleQuad {
     glm::vec4 rect;
     bool extendedRight = false, extendedTop = false;
 };
-SampleQuad sampleQuad(const BackprojectionCpu& c, const BpReceiver& r, glm::ivec2 t, float z) {
-    const float size = float(c.size), tanHalf = c.view.tanHalfFov;
-    glm::vec2 lo = backprojectToLight(r.position, glm::vec2(t), z, size, tanHalf, c.lightHalfSize);
-    glm::vec2 hi = backprojectToLight(r.position, glm::vec2(t + 1), z, size, tanHalf, c.lightHalfSize);
+SampleQuad sampleQuad(const BackprojectionCpu& c, const BpReceiver& r, int level, glm::ivec2 t, float z) {
+    glm::vec2 lo = c.backprojectLevel(r, glm::vec2(t), level, z);
+    glm::vec2 hi = c.backprojectLevel(r, glm::vec2(t + 1), level, z);
     SampleQuad q;
     glm::ivec2 right = t + glm::ivec2(1, 0), top = t + glm::ivec2(0, 1);
-    float zRight = c.depthAt(right);
-    if (c.occludes(r, right, zRight)) {
-        float x = backprojectToLight(r.position, glm::vec2(right), zRight, size, tanHalf, c.lightHalfSize).x;
+    float zRight = c.levelDepth(level, right);
+    if (c.levelOccludes(r, level, right, zRight)) {
+        float x = c.backprojectLevel(r, glm::vec2(right), level, zRight).x;
         q.extendedRight = x > hi.x;
         hi.x = std::max(hi.x, x);
     }
-    float zTop = c.depthAt(top);
-    if (c.occludes(r, top, zTop)) {
-        float y = backprojectToLight(r.position, glm::vec2(top), zTop, size, tanHalf, c.lightHalfSize).y;
+    float zTop = c.levelDepth(level, top);
+    if (c.levelOccludes(r, level, top, zTop)) {
+        float y = c.backprojectLevel(r, glm::vec2(top), level, zTop).y;
         q.extendedTop = y > hi.y;
         hi.y = std::max(hi.y, y);
     }
@@ -46,25 +45,29 @@ InternalDesc gbp06PixelRecord() {
     r.kind = InternalDesc::Kind::Record;
     r.doc = "the picked pixel's kernel and back-projected sample quads (--pixel x,y)";
     r.schema = backprojectionRecordSchema();
-    r.schema.push_back({"samples", "occluding samples whose quad reaches the light: texel [x, y], depth, quad "
+    r.schema.push_back({"samples", "occluding samples of the level walked whose quad reaches the light: texel [x, y] of "
+                                   "that level, level, depth (its min), quad "
                                    "[x0, y0, x1, y1] in light coordinates after gap filling, extended_right, "
                                    "extended_top, area (occluded light area, light coordinates)"});
     r.reads = backprojectionRecordReads();
     r.record = [](PassContext& ctx, glm::ivec2 pixel) {
-        PixelRecordStart s = startPixelRecord(ctx, pixel);
+        PixelRecordStart s = startPixelRecord(ctx, pixel, -1.0f);  // GBP06: eq. 2's level, no blending
         float sum = 0.0f;
         nlohmann::json samples = nlohmann::json::array();
         if (!s.done) {
             const BackprojectionCpu& c = s.cpu;
-            for (int y = s.range.y; y <= s.range.w; ++y)
-                for (int x = s.range.x; x <= s.range.z; ++x) {
-                    float z = c.depthAt({x, y});
-                    if (!c.occludes(s.receiver, {x, y}, z)) continue;
-                    SampleQuad q = sampleQuad(c, s.receiver, {x, y}, z);
+            const int level = s.level;
+            glm::ivec4 range = levelTexelRange(s.range, level, c.levelSize(level));
+            for (int y = range.y; y <= range.w; ++y)
+                for (int x = range.x; x <= range.z; ++x) {
+                    float z = c.levelDepth(level, {x, y});
+                    if (!c.levelOccludes(s.receiver, level, {x, y}, z)) continue;
+                    SampleQuad q = sampleQuad(c, s.receiver, level, {x, y}, z);
                     float area = rectOccludedArea(c.shape, q.rect);
                     sum += area;
                     if (area == 0.0f) continue;
                     samples.push_back({{"texel", {x, y}},
+                                       {"level", level},
                                        {"depth", z},
                                        {"quad", {q.rect.x, q.rect.y, q.rect.z, q.rect.w}},
                                        {"extended_right", q.extendedRight},
@@ -97,12 +100,13 @@ const TechniqueDesc& ssmGbp06Technique() {
         visibility.doc = "occluding samples of the kernel back-projected as quads, gap-filled, clipped to the light, "
                          "areas summed (guennebaud2007 sec. 3)";
         visibility.reads = backprojectionVisibilityReads();
-        visibility.creates = {visibilityResource()};
+        visibility.creates = {visibilityResource(), lightLevelsResource()};
         visibility.soft = true;
         visibility.create = [] { return std::make_unique<BackprojectionVisibilityPass>("backprojection/gbp06.frag"); };
         d.passes = {shadowMapPass(), hsmPass(), kernelPass(), visibility};
         d.kernelCaps = {backprojectionKernelCap()};
         d.internals = backprojectionInternals();
+        d.internals.push_back(lightLevelsInternal());
         d.internals.push_back(gbp06PixelRecord());
         return d;
     }();

@@ -77,17 +77,25 @@ class BackprojectionRender : public GLTest {};
 // floor), the texel quantisation of the plate's border in the map; bound 0.012, 2.7x. The plate is
 // parallel to the light, so GBP06's quads tile it without gaps or overlaps and ssm-gbp06 is just
 // as close. An HSM read or built one level off fails here (scripts/mutation-check.sh).
+// With the light-space multi-resolution at its defaults (t_k = 16, sec. 5.1) the plate's penumbra is
+// walked on HSM levels 1-2: ssm-contour blends levels and shrinks their contours (t = 1, Fig. 7c),
+// measured penumbra RMSE 0.0093 (bound 0.012 as above); ssm-gbp06 walks eq. 2's level without
+// blending and with the min-fattened quads (as GBP06 did), measured 0.021, bound 0.03 (1.4x).
 TEST_F(BackprojectionRender, SquareOccluderMatchesClosedForm) {
     Scene scene = loadScene("square-occluder");
+    for (const char* multires : {"false", "true"})
     for (const char* technique : {"ssm-contour", "ssm-gbp06"}) {
-        Render r = render(scene, technique, {}, 256);
+        SCOPED_TRACE(std::string(technique) + " light_multires=" + multires);
+        Render r = render(scene, technique, {{"light_multires", multires}}, 256);
         ErrorStats e = errorStats(r.visibility, closedForm(r));
         ErrorStats pen = errorStats(r.visibility, closedForm(r), true);
         EXPECT_GT(e.n, size_t(30000));
         EXPECT_GT(pen.n, size_t(3000));
-        EXPECT_LE(pen.rmse, 0.012) << technique;
-        RecordProperty(std::string(technique) + "_rmse", std::to_string(e.rmse));
-        RecordProperty(std::string(technique) + "_penumbra_rmse", std::to_string(pen.rmse));
+        bool coarseGbp06 = std::string(multires) == "true" && std::string(technique) == "ssm-gbp06";
+        EXPECT_LE(pen.rmse, coarseGbp06 ? 0.03 : 0.012) << technique;
+        std::string key = std::string(technique) + (std::string(multires) == "true" ? "_multires" : "");
+        RecordProperty(key + "_rmse", std::to_string(e.rmse));
+        RecordProperty(key + "_penumbra_rmse", std::to_string(pen.rmse));
         std::printf("[ square   ] %s vs closed form: RMSE %.5f mean error %.5f over %zu floor pixels; penumbra RMSE %.5f "
                     "over %zu\n",
                     technique, e.rmse, e.mean, e.n, pen.rmse, pen.n);
@@ -176,17 +184,22 @@ nlohmann::json pixelRecord(Renderer& renderer, glm::ivec2 pixel, const std::stri
 // initial area are the occluded area, and 1 - that / light area (clamped) is the image's visibility
 // within 1e-4, on penumbra, lit and umbra pixels of four scenes (square and disk lights, occluder
 // fusion, many depths).
+// Every record against the image, with the light-space multi-resolution off (the map itself) and
+// with t_k = 4 (coarse HSM levels and, for ssm-contour, blended pairs of levels, sec. 5.1): the
+// CPU mirror walks the level the shader walked, and the blend reproduces the image.
 TEST_F(BackprojectionRender, PixelRecordsAddUpToTheImage) {
     std::string root = std::string(SHADOWLAB_TEST_TMP) + "/backprojection-records";
-    int penumbraRecords = 0, withItems = 0;
+    int penumbraRecords = 0, withItems = 0, coarse = 0, blended = 0;
+    for (const char* multires : {"false", "true"})
     for (const char* sceneName : {"square-occluder", "sphere-light", "plant", "overlapping-occluders"}) {
         Scene scene = loadScene(sceneName);
         for (const char* technique : {"ssm-contour", "ssm-gbp06"}) {
-            SCOPED_TRACE(std::string(sceneName) + " " + technique);
+            SCOPED_TRACE(std::string(sceneName) + " " + technique + " light_multires=" + multires);
             RenderOptions options;
             options.width = options.height = 96;
             options.technique = technique;
-            options.sets = {{"sm_size", "256"}};
+            options.sets = {{"sm_size", "256"}, {"light_multires", multires}};
+            if (std::string(multires) == "true") options.sets.push_back({"t_k", "4"});
             Renderer renderer(scene, options);
             renderer.renderFrame(0, renderer.internalRequests(true));
             Image v = renderer.visibility();
@@ -224,15 +237,29 @@ TEST_F(BackprojectionRender, PixelRecordsAddUpToTheImage) {
                 double front = rec["front_fraction"].get<double>();
                 EXPECT_GE(front, 0.0);
                 EXPECT_LE(front, 1.0);
-                double visibility = std::clamp(1.0 - occluded / area, 0.0, 1.0) * front;
+                double visibility = std::clamp(1.0 - occluded / area, 0.0, 1.0);
+                if (rec.contains("light_levels") && !rec["light_levels"].is_null()) {
+                    const nlohmann::json& levels = rec["light_levels"];
+                    if (levels["level"].get<int>() > 0) ++coarse;
+                    double weight = levels["blend_weight"].get<double>();
+                    if (weight > 0.0) {
+                        ++blended;
+                        double other = std::clamp(1.0 - rec["blend_occluded_area"].get<double>() / area, 0.0, 1.0);
+                        visibility += (other - visibility) * weight;
+                    }
+                }
+                visibility *= front;
+                EXPECT_NEAR(visibility, rec["visibility_recomputed"].get<double>(), 1e-5);
                 EXPECT_NEAR(visibility, rec["visibility"].get<double>(), 1e-4) << rec.dump().substr(0, 2000);
                 EXPECT_FLOAT_EQ(rec["visibility"].get<float>(), v.at(p.x, p.y));
                 if (rec["classification"] == "penumbra") ++penumbraRecords;
             }
         }
     }
-    EXPECT_GE(penumbraRecords, 30);
-    EXPECT_GE(withItems, 30);
+    EXPECT_GE(penumbraRecords, 60);
+    EXPECT_GE(withItems, 60);
+    EXPECT_GE(coarse, 10);  // the multi-resolution branch is exercised, not only level 0
+    EXPECT_GE(blended, 1);
 }
 
 }  // namespace

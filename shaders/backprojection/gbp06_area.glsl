@@ -1,0 +1,40 @@
+// ssm-gbp06's occluded area at one HSM level (guennebaud2007 sec. 3, after GBP06; light-space
+// multi-resolution as GBP06 introduced it: the level of eq. 2, no blending, sec. 5.1): every
+// occluding sample of the level in the kernel is a small quad parallel to the light (its texel at
+// its min depth), back-projected from p onto the light and clipped to it; the occluded areas are
+// summed. Gaps between the quads of neighbouring samples at different depths are filled by
+// extending each quad's right and top sides to the back-projected left and bottom sides of its right
+// and top neighbours when those occlude too. The overlaps this creates (and those already there)
+// are not corrected: the shadow is overestimated, as the paper says. The C++ mirror for --pixel is
+// techniques/ssm-gbp06/gbp06.cpp.
+#ifndef SHADOWLAB_BACKPROJECTION_GBP06_AREA_GLSL
+#define SHADOWLAB_BACKPROJECTION_GBP06_AREA_GLSL
+
+float occludedAreaAtLevel(int level, float w) {
+    int size = int(shadowMapSize);
+    int n = hsmLevelSize(level, size);
+    ivec4 range = levelTexelRange(kernelTexelRange(receiver.centre, w, size), level, n);
+    float occluded = 0.0;
+    for (int y = range.y; y <= range.w; ++y)
+        for (int x = range.x; x <= range.z; ++x) {
+            float z = levelDepth(level, ivec2(x, y), n);
+            if (!levelOccludes(level, ivec2(x, y), z, n)) continue;
+            // The texel [x, x+1] x [y, y+1] of the level at depth z, back-projected: an axis-aligned rectangle.
+            vec2 lo = backprojectLevel(vec2(x, y), level, z);
+            vec2 hi = backprojectLevel(vec2(x + 1, y + 1), level, z);
+            // Gap filling (GBP06): extend to the right and top neighbours' facing sides.
+            float zRight = levelDepth(level, ivec2(x + 1, y), n);
+            if (levelOccludes(level, ivec2(x + 1, y), zRight, n)) hi.x = max(hi.x, backprojectLevel(vec2(x + 1, y), level, zRight).x);
+            float zTop = levelDepth(level, ivec2(x, y + 1), n);
+            if (levelOccludes(level, ivec2(x, y + 1), zTop, n)) hi.y = max(hi.y, backprojectLevel(vec2(x, y + 1), level, zTop).y);
+            occluded += rectOccludedArea(lightShape, vec4(lo, hi));
+        }
+    return occluded;
+}
+
+// GBP06's level: eq. 2, no blending.
+vec3 chooseLevels(float w, float zOcc) {
+    chosenLambda = float(lightLevelForKernel(w, kernelThreshold, hsmTopLevel));
+    return vec3(chosenLambda, 0.0, 0.0);
+}
+#endif

@@ -1,0 +1,54 @@
+// What the visibility passes of ssm-gbp06 and ssm-contour share (guennebaud2007 sec. 3-5): the
+// maps they read, the per-level depth access of the light-space multi-resolution (sec. 5.1) and
+// the per-pixel driver `pixelVisibility`: classification, then the occluded area at the level (or
+// two blended levels) the technique picks, times the light-front fraction. The technique's file,
+// included before visibility_levels.glsl, defines `float occludedAreaAtLevel(int level, float w)`
+// (the occluded light area from p at HSM level `level` with the level-0 kernel width w) and
+// `vec3 chooseLevels(float w, float zOcc)` (lod, the other level, its weight). The C++ mirror for
+// --pixel is techniques/hsm/hsm.cpp and each technique's .cpp.
+#ifndef SHADOWLAB_BACKPROJECTION_VISIBILITY_COMMON_GLSL
+#define SHADOWLAB_BACKPROJECTION_VISIBILITY_COMMON_GLSL
+#include "receiver.glsl"
+#include "../common/light_front.glsl"
+uniform sampler2D shadowMap;       // light-view depth z (R32F), HSM level 0
+uniform sampler2D hsm;             // HSM levels 1, 2, ... as mip levels 0, 1, ...: (min, max)
+uniform int hsmTopLevel;           // the 1x1 HSM level
+uniform sampler2D kernelSize;      // from kernel.frag
+uniform sampler2D classification;  // from kernel.frag
+uniform sampler2D occluderDepth;   // z_occ from kernel.frag (sec. 5.1)
+uniform int lightShape;            // BP_LIGHT_SQUARE or BP_LIGHT_DISK
+uniform float lightHalfSize;       // w_l / 2 or r: the unit of light coordinates
+uniform float lightWidthWorld;     // w_l (eq. 1)
+uniform float maxKernelTexels;     // the `max_kernel` cap
+uniform float kernelThreshold;     // t_k, texels of the level (eq. 2)
+
+BpReceiver receiver;
+// What the multi-resolution chose for the current pixel (the `light_levels` internal): lambda
+// (eq. 3; GBP06: eq. 2's level), the level walked, the level blended in and its weight.
+float chosenLambda = 0.0;
+vec3 chosenLevels = vec3(0.0);
+
+// Min depth of HSM level `level` at its texel t (level 0: the map); no caster outside the level.
+// Without LIGHT_MULTIRES (the variant `light_multires` off compiles) every level is 0 and the
+// compiler folds the level arithmetic away: llvmpipe runs both sides of a per-pixel branch, so the
+// full-resolution walk must not pay for the HSM fetch it never uses.
+float levelDepth(int level, ivec2 t, int levelSize) {
+    if (t.x < 0 || t.y < 0 || t.x >= levelSize || t.y >= levelSize) return 3.4e38;
+#ifdef LIGHT_MULTIRES
+    if (level != 0) return texelFetch(hsm, t, level - 1).r;
+#endif
+    return texelFetch(shadowMap, t, 0).r;
+}
+
+bool levelOccludes(int level, ivec2 t, float z, int levelSize) {
+    return bpLevelSampleOccludes(receiver, level, t, z, shadowMapSize, lightTanHalfFov);
+}
+
+// Level coordinates of level `level` to map texel coordinates.
+float levelScale(int level) { return float(1 << level); }
+
+// The receiver's current point back-projected from level coordinates u at depth z.
+vec2 backprojectLevel(vec2 u, int level, float z) {
+    return backprojectToLight(receiver.position, u * levelScale(level), z, shadowMapSize, lightTanHalfFov, lightHalfSize);
+}
+#endif
