@@ -398,6 +398,7 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel, float beta
                    {"steps", steps},
                    {"texel_range", {s.range.x, s.range.y, s.range.z, s.range.w}}};
     j["classification"] = className(s.kernel.classification);
+    j["light_levels"] = nullptr;  // filled below for penumbra pixels when light_multires is on
     if (s.kernel.classification == BP_CLASS_UMBRA) s.initialArea = lightArea;
     s.done = s.kernel.classification != BP_CLASS_PENUMBRA;
     if (!s.done && ctx.param("light_multires") != 0.0) {
@@ -432,6 +433,8 @@ void finishPixelRecord(PassContext& ctx, glm::ivec2 pixel, PixelRecordStart& s, 
     j["occluded_area"] = occluded;
     j["front_fraction"] = s.front;
     float v = bpVisibility(occluded, s.cpu.shape);
+    j["blend_initial_area"] = nullptr;  // no level blended in
+    j["blend_occluded_area"] = nullptr;
     if (blended && s.blendWeight > 0.0f) {
         float other = blended->initialArea + blended->itemsArea;
         j["blend_initial_area"] = blended->initialArea;
