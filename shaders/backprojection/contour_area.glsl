@@ -48,29 +48,31 @@ float occludedAreaAtLevel(int level, float w) {
         if (contourCentreOccluded(mask, t, turn0, turn1)) occluded = bpLightArea(lightShape);
     }
 
-    // Every 2x2 block with a sample in the kernel, walked row by row; the left column's two samples
-    // are the previous block's right column.
-    for (int by = range.y - 1; by <= range.w; ++by) {
-        ivec2 left = ivec2(range.x - 1, by);
-        float z0 = levelDepth(level, left, n), z3 = levelDepth(level, left + ivec2(0, 1), n);
-        bool o0 = levelOccludes(level, left, z0, n), o3 = levelOccludes(level, left + ivec2(0, 1), z3, n);
-        for (int bx = range.x - 1; bx <= range.z; ++bx) {
-            ivec2 corner = ivec2(bx, by);
-            float z1 = levelDepth(level, corner + ivec2(1, 0), n), z2 = levelDepth(level, corner + ivec2(1, 1), n);
-            bool o1 = levelOccludes(level, corner + ivec2(1, 0), z1, n), o2 = levelOccludes(level, corner + ivec2(1, 1), z2, n);
-            int mask = (o0 ? 1 : 0) | (o1 ? 2 : 0) | (o2 ? 4 : 0) | (o3 ? 8 : 0);
-            if (mask != 0 && mask != 15) {
-                vec4 depths = vec4(z0, z1, z2, z3);
+    // Every 2x2 block with a sample in the kernel, chunk of BP_ROW_CHUNK blocks by chunk, row by row
+    // (backprojection.glsl section 9): the occlusion bits of each row of samples once, the edge work
+    // only on the contour blocks.
+    int columns = range.z - range.x + 2;  // block columns range.x - 1 .. range.z
+    for (int cx = 0; cx < columns; cx += BP_ROW_CHUNK) {
+        int x0 = range.x - 1 + cx;
+        int blocks = min(BP_ROW_CHUNK, columns - cx);
+        uint below = rowOcclusionBits(level, x0, range.y - 1, blocks + 1, n);
+        for (int by = range.y - 1; by <= range.w; ++by) {
+            uint above = rowOcclusionBits(level, x0, by + 1, blocks + 1, n);
+            uint todo = contourBlockBits(below, above, blocks);
+            while (todo != 0u) {
+                int i = findLSB(todo);
+                todo &= todo - 1u;
+                ivec2 corner = ivec2(x0 + i, by);
+                int mask = contourBlockMask(below, above, i);
+                vec4 depths = vec4(levelDepth(level, corner, n), levelDepth(level, corner + ivec2(1, 0), n),
+                                   levelDepth(level, corner + ivec2(1, 1), n), levelDepth(level, corner + ivec2(0, 1), n));
                 int count = contourRule(mask).x;
                 for (int which = 0; which < count; ++which) {
                     vec4 e = blockEdge(level, corner, mask, which, depths, t);
                     occluded += edgeOccludedArea(lightShape, e.xy, e.zw);
                 }
             }
-            z0 = z1;
-            z3 = z2;
-            o0 = o1;
-            o3 = o2;
+            below = above;
         }
     }
     return occluded;

@@ -15,20 +15,35 @@ float occludedAreaAtLevel(int level, float w) {
     int n = hsmLevelSize(level, size);
     ivec4 range = levelTexelRange(kernelTexelRange(receiver.centre, w, size), level, n);
     float occluded = 0.0;
-    for (int y = range.y; y <= range.w; ++y)
-        for (int x = range.x; x <= range.z; ++x) {
-            float z = levelDepth(level, ivec2(x, y), n);
-            if (!levelOccludes(level, ivec2(x, y), z, n)) continue;
-            // The texel [x, x+1] x [y, y+1] of the level at depth z, back-projected: an axis-aligned rectangle.
-            vec2 lo = backprojectLevel(vec2(x, y), level, z);
-            vec2 hi = backprojectLevel(vec2(x + 1, y + 1), level, z);
-            // Gap filling (GBP06): extend to the right and top neighbours' facing sides.
-            float zRight = levelDepth(level, ivec2(x + 1, y), n);
-            if (levelOccludes(level, ivec2(x + 1, y), zRight, n)) hi.x = max(hi.x, backprojectLevel(vec2(x + 1, y), level, zRight).x);
-            float zTop = levelDepth(level, ivec2(x, y + 1), n);
-            if (levelOccludes(level, ivec2(x, y + 1), zTop, n)) hi.y = max(hi.y, backprojectLevel(vec2(x, y + 1), level, zTop).y);
-            occluded += rectOccludedArea(lightShape, vec4(lo, hi));
+    // Chunk of BP_ROW_CHUNK samples by chunk, row by row (backprojection.glsl section 9): the
+    // occlusion bits of each row once (with the right neighbour of the chunk's last sample), the
+    // quads only for the occluding samples.
+    int columns = range.z - range.x + 1;
+    for (int cx = 0; cx < columns; cx += BP_ROW_CHUNK) {
+        int x0 = range.x + cx;
+        int count = min(BP_ROW_CHUNK, columns - cx);
+        uint row = rowOcclusionBits(level, x0, range.y, count + 1, n);
+        for (int y = range.y; y <= range.w; ++y) {
+            uint top = rowOcclusionBits(level, x0, y + 1, count + 1, n);
+            uint todo = row & ((1u << uint(count)) - 1u);
+            while (todo != 0u) {
+                int i = findLSB(todo);
+                todo &= todo - 1u;
+                int x = x0 + i;
+                float z = levelDepth(level, ivec2(x, y), n);
+                // The texel [x, x+1] x [y, y+1] of the level at depth z, back-projected: an axis-aligned rectangle.
+                vec2 lo = backprojectLevel(vec2(x, y), level, z);
+                vec2 hi = backprojectLevel(vec2(x + 1, y + 1), level, z);
+                // Gap filling (GBP06): extend to the right and top neighbours' facing sides.
+                if (((row >> uint(i + 1)) & 1u) != 0u)
+                    hi.x = max(hi.x, backprojectLevel(vec2(x + 1, y), level, levelDepth(level, ivec2(x + 1, y), n)).x);
+                if (((top >> uint(i)) & 1u) != 0u)
+                    hi.y = max(hi.y, backprojectLevel(vec2(x, y + 1), level, levelDepth(level, ivec2(x, y + 1), n)).y);
+                occluded += rectOccludedArea(lightShape, vec4(lo, hi));
+            }
+            row = top;
         }
+    }
     return occluded;
 }
 

@@ -44,6 +44,17 @@ bool levelOccludes(int level, ivec2 t, float z, int levelSize) {
     return bpLevelSampleOccludes(receiver, level, t, z, shadowMapSize, lightTanHalfFov);
 }
 
+// The occlusion bits of `count` (at most 32) samples of row y of level `level` from x0: bit i for
+// the sample x0 + i (backprojection.glsl section 9).
+uint rowOcclusionBits(int level, int x0, int y, int count, int levelSize) {
+    uint bits = 0u;
+    for (int i = 0; i < count; ++i) {
+        ivec2 t = ivec2(x0 + i, y);
+        if (levelOccludes(level, t, levelDepth(level, t, levelSize), levelSize)) bits |= 1u << uint(i);
+    }
+    return bits;
+}
+
 // Level coordinates of level `level` to map texel coordinates.
 float levelScale(int level) { return float(1 << level); }
 

@@ -565,4 +565,38 @@ SHARED_FN bool bpLevelSampleOccludes(BpReceiver r, int level, ivec2 t, float zSa
     return sampleOccludes(zSample, r.position.z, zPlane, bias);
 }
 
+// ---- 9. The kernel walked row by row with occlusion bits ------------------------------------------
+// llvmpipe (and any SIMD GPU) runs both sides of a branch whenever one lane of a group takes it, so
+// a walk that tests "is this block on the contour?" per block pays the edge work (rules,
+// back-projection, clipping, area) for every block of the kernel. The walk instead reads one row of
+// a chunk of samples into the bits of a uint (bit i: sample x0 + i occludes), finds the blocks or
+// samples that need work with bit operations, and loops over the set bits only: the loop runs as
+// many times as the lane with the most work in that row needs (a few on a shadow edge), not the
+// kernel's width. The results are those of the plain walk; the order of the sums is the plain
+// walk's within a chunk, chunk by chunk (the CPU mirrors run the same order).
+
+// Samples per chunk of a row: 32 bits hold 32 samples, i.e. the 31 blocks of 2x2 samples between
+// them (ssm-contour) or 31 samples with their right neighbours (ssm-gbp06).
+#define BP_ROW_CHUNK 31
+
+// The blocks of a chunk whose four samples neither all occlude nor all miss (contour blocks: the
+// rule table gives them edges): bit i for the block of samples i, i + 1 of the rows `below` and
+// `above` (bit i: sample i occludes); `blocks` <= 31 blocks in the chunk.
+SHARED_FN uint contourBlockBits(uint below, uint above, int blocks) {
+    uint any = below | above;
+    any = any | (any >> 1u);
+    uint all = below & above;
+    all = all & (all >> 1u);
+    uint valid = (1u << uint(blocks)) - 1u;
+    return any & ~all & valid;
+}
+
+// The 2x2 mask of contourRule (bit 0 lower-left, 1 lower-right, 2 upper-right, 3 upper-left) of the
+// block whose lower-left sample is bit i of `below`.
+SHARED_FN int contourBlockMask(uint below, uint above, int i) {
+    uint b = below >> uint(i);
+    uint a = above >> uint(i);
+    return int((b & 1u) | (((b >> 1u) & 1u) << 1u) | (((a >> 1u) & 1u) << 2u) | ((a & 1u) << 3u));
+}
+
 #endif

@@ -70,8 +70,12 @@ float contourLevelArea(const BackprojectionCpu& c, const BpReceiver& rc, glm::iv
                         {"turns", {turns[0], turns[1]}},
                         {"centre_occluded", occluded}};
     float sum = 0.0f;
-    for (int by = range.y - 1; by <= range.w; ++by)
-        for (int bx = range.x - 1; bx <= range.z; ++bx) {
+    // contour_area.glsl's order: chunks of BP_ROW_CHUNK block columns, each row by row (the sum in
+    // the same order as the GPU's; blocks that are not on the contour add nothing).
+    const int columns = range.z - range.x + 2;
+    for (int cx = 0; cx < columns; cx += BP_ROW_CHUNK)
+        for (int by = range.y - 1; by <= range.w; ++by)
+        for (int bx = range.x - 1 + cx; bx < range.x - 1 + cx + std::min(BP_ROW_CHUNK, columns - cx); ++bx) {
             Block b = evaluateBlock(c, rc, level, {bx, by}, t);
             for (int which = 0; which < b.count; ++which) {
                 const BlockEdge& e = b.edges[which];

@@ -58,8 +58,11 @@ InternalDesc gbp06PixelRecord() {
             const BackprojectionCpu& c = s.cpu;
             const int level = s.level;
             glm::ivec4 range = levelTexelRange(s.range, level, c.levelSize(level));
-            for (int y = range.y; y <= range.w; ++y)
-                for (int x = range.x; x <= range.z; ++x) {
+            // gbp06_area.glsl's order: chunks of BP_ROW_CHUNK columns, each row by row.
+            const int columns = range.z - range.x + 1;
+            for (int cx = 0; cx < columns; cx += BP_ROW_CHUNK)
+                for (int y = range.y; y <= range.w; ++y)
+                for (int x = range.x + cx; x < range.x + cx + std::min(BP_ROW_CHUNK, columns - cx); ++x) {
                     float z = c.levelDepth(level, {x, y});
                     if (!c.levelOccludes(s.receiver, level, {x, y}, z)) continue;
                     SampleQuad q = sampleQuad(c, s.receiver, level, {x, y}, z);

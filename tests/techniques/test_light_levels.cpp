@@ -64,6 +64,34 @@ TEST(LightLevels, BlendingIsContinuousAndBoundsTheKernel) {
         }
 }
 
+// The row-bit walk (backprojection.glsl section 9) finds exactly the blocks the plain walk's
+// "mask != 0 && mask != 15" finds, with the same masks, on random rows of every chunk length.
+TEST(LightLevels, RowBitsFindExactlyTheContourBlocks) {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 2000; ++trial) {
+        const int blocks = 1 + int(rng() % BP_ROW_CHUNK);
+        const float density = float(rng() % 100) / 100.0f;
+        bool below[32], above[32];
+        uint b = 0u, a = 0u;
+        for (int i = 0; i <= blocks; ++i) {
+            below[i] = float(rng() % 1000) / 1000.0f < density;
+            above[i] = float(rng() % 1000) / 1000.0f < density;
+            if (below[i]) b |= 1u << uint(i);
+            if (above[i]) a |= 1u << uint(i);
+        }
+        // Bits past the chunk must be ignored.
+        if (blocks + 1 < 32 && rng() % 2) b |= 0xffffffffu << uint(blocks + 1);
+        uint found = contourBlockBits(b, a, blocks);
+        for (int i = 0; i < blocks; ++i) {
+            int mask = (below[i] ? 1 : 0) | (below[i + 1] ? 2 : 0) | (above[i + 1] ? 4 : 0) | (above[i] ? 8 : 0);
+            bool contour = mask != 0 && mask != 15;
+            ASSERT_EQ(((found >> uint(i)) & 1u) != 0u, contour) << "trial " << trial << " block " << i;
+            if (contour) ASSERT_EQ(contourBlockMask(b, a, i), mask) << "trial " << trial << " block " << i;
+        }
+        ASSERT_EQ(found >> uint(blocks), 0u) << "a block past the chunk";
+    }
+}
+
 TEST(LightLevels, OccluderDepthHint) {
     const glm::vec4 z(2.0f, 3.0f, 9.0f, 4.0f);
     // Only texels nearer than the limit count, renormalised; never nearer than z_min.
