@@ -11,6 +11,11 @@
 // tests/minmax_pyramid.comp).
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rg32f, binding = 1) uniform writeonly image2D destination;  // level k
+#ifdef MIN_LEVELS
+// light_multires: the min depths again, as mip level k of the one-channel pyramid whose mip 0 is the
+// shadow map itself, so the visibility walk reads any level with one fetch (visibility_common.glsl).
+layout(r32f, binding = 2) uniform writeonly image2D minDestination;
+#endif
 #ifdef FIRST_LEVEL
 uniform sampler2D shadowMap;  // light-view depth z (R32F)
 #else
@@ -45,4 +50,7 @@ void main() {
             range = vec2(min(range.x, texel.x), max(range.y, texel.y));
         }
     imageStore(destination, p, vec4(range, 0.0, 0.0));
+#ifdef MIN_LEVELS
+    imageStore(minDestination, p, vec4(range.x, 0.0, 0.0, 0.0));
+#endif
 }

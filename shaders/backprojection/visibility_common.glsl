@@ -32,12 +32,19 @@ vec3 chosenLevels = vec3(0.0);
 // Without LIGHT_MULTIRES (the variant `light_multires` off compiles) every level is 0 and the
 // compiler folds the level arithmetic away: llvmpipe runs both sides of a per-pixel branch, so the
 // full-resolution walk must not pay for the HSM fetch it never uses.
+// With it, every level's min depth is one fetch of `depthLevels` (mip 0 the map, mip k the HSM
+// level k's min: the hsm pass writes it), not a branch between two textures.
+#ifdef LIGHT_MULTIRES
+uniform sampler2D depthLevels;
+uniform int depthLevelsTop;  // its last mip (the HSM's top level, but 0 for a 1x1 map)
+#endif
 float levelDepth(int level, ivec2 t, int levelSize) {
     if (t.x < 0 || t.y < 0 || t.x >= levelSize || t.y >= levelSize) return 3.4e38;
 #ifdef LIGHT_MULTIRES
-    if (level != 0) return texelFetch(hsm, t, level - 1).r;
-#endif
+    return texelFetch(depthLevels, t, min(level, depthLevelsTop)).r;
+#else
     return texelFetch(shadowMap, t, 0).r;
+#endif
 }
 
 bool levelOccludes(int level, ivec2 t, float z, int levelSize) {

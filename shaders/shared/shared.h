@@ -16,6 +16,7 @@ using uint = std::uint32_t;
 #include "shared/light_sampling.glsl"
 #include "shared/penumbra.glsl"
 #include "shared/pull_push.glsl"
+#include "shared/screen_selection.glsl"
 #include "shared/shadow_projection.glsl"
 #include "shared/soft_shadow_volumes.glsl"
 #include "shared/square_occluder.glsl"

@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "error.h"
+#include "visibility/discontinuities.h"
+#include "visibility/pull_push.h"
 
 namespace shadowlab {
 
@@ -24,16 +26,30 @@ public:
     void execute(PassContext& ctx) override {
         Texture& hsm = ctx.texture("hsm");
         const Texture& map = ctx.texture(shadowTestMap(ctx));
-        const ShaderProgram& first = ctx.programs().compute("backprojection/hsm.comp", {"FIRST_LEVEL"});
+        // light_multires: also "depth_levels", every level's min depth with the map as its mip 0.
+        const bool minLevels = ctx.param("light_multires") != 0.0;
+        Texture* depthLevels = minLevels ? &ctx.texture("depth_levels") : nullptr;
+        std::vector<std::string> first{"FIRST_LEVEL"}, rest;
+        if (minLevels) {
+            first.push_back("MIN_LEVELS");
+            rest.push_back("MIN_LEVELS");
+            glCopyImageSubData(map.id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthLevels->id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                               map.width(), map.height(), 1);
+        }
+        const ShaderProgram& firstProgram = ctx.programs().compute("backprojection/hsm.comp", first);
         glBindTextureUnit(0, map.id());
-        first.set("shadowMap", 0);
+        firstProgram.set("shadowMap", 0);
         bindImage(1, hsm, 0, GL_WRITE_ONLY);  // HSM level 1
-        first.dispatch(GLuint((hsm.width() + 7) / 8), GLuint((hsm.height() + 7) / 8));
+        // A 1x1 map has one mip, but an HSM level 1 (the same texel): the walk clamps to the last mip.
+        const int depthMips = depthLevels ? depthLevels->levels() : 0;
+        if (depthLevels) bindImage(2, *depthLevels, std::min(1, depthMips - 1), GL_WRITE_ONLY);
+        firstProgram.dispatch(GLuint((hsm.width() + 7) / 8), GLuint((hsm.height() + 7) / 8));
         memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        const ShaderProgram& reduce = ctx.programs().compute("backprojection/hsm.comp");
+        const ShaderProgram& reduce = ctx.programs().compute("backprojection/hsm.comp", rest);
         for (int k = 1; k < hsm.levels(); ++k) {
             bindImage(0, hsm, k - 1, GL_READ_ONLY);
             bindImage(1, hsm, k, GL_WRITE_ONLY);
+            if (depthLevels) bindImage(2, *depthLevels, std::min(k + 1, depthMips - 1), GL_WRITE_ONLY);
             reduce.dispatch(GLuint((hsm.width(k) + 7) / 8), GLuint((hsm.height(k) + 7) / 8));
             memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // level k is the next dispatch's source
         }
@@ -84,18 +100,38 @@ std::vector<ParamDesc> backprojectionParams() {
                   "reach w_k = 108 at most at sm_size 1024",
                   ""};
     params.push_back(cap);
-    ParamDesc multires{"light_multires", "", ParamDesc::Type::Bool, "", 0.0, 0, 1, 1,
+    ParamDesc multires{"light_multires", "", ParamDesc::Type::Bool, "", 1.0, 0, 1, 1,
                        "light-space multi-resolution (guennebaud2007 sec. 5.1): walk the finest HSM level whose kernel "
                        "is at most t_k of its texels instead of the shadow map itself, so the cost no longer grows "
-                       "with the penumbra (off by default until the lessons' and figures' expectations are re-measured "
-                       "with it on: techniques/ssm-contour/README.md)", ""};
+                       "with the penumbra", ""};
     params.push_back(multires);
-    ParamDesc tk{"t_k", "t_k", ParamDesc::Type::Float, "texels", 16.0, 2.0, 256.0, 1.0,
+    ParamDesc tk{"t_k", "t_k", ParamDesc::Type::Float, "texels", 24.0, 2.0, 256.0, 1.0,
                  "kernel threshold t_k of eq. 2: the largest kernel, in texels of the level walked (2 t_k at most "
-                 "outside the blending band); 16 keeps ssm-contour within 0.002 RMSE of the full-resolution walk on "
-                 "every scene in assets/ (techniques/ssm-contour/README.md)",
+                 "outside the blending band); 24 keeps ssm-contour within 0.002 RMSE of the full-resolution walk on "
+                 "every scene in assets/, where 16 loses 0.01 on plant under a light of size 2 "
+                 "(techniques/ssm-contour/README.md)",
                  "light_multires == true"};
     params.push_back(tk);
+    ParamDesc screen{"screen_adaptive", "", ParamDesc::Type::Bool, "", 1.0, 0, 1, 1,
+                     "screen-space multi-resolution (guennebaud2007 sec. 5.2 and 6): compute the visibility of a "
+                     "dithered subset of the penumbra pixels, denser where the penumbra is narrow on screen (eq. 4-6), "
+                     "pack them by blocks and reconstruct the rest by pull-push", ""};
+    params.push_back(screen);
+    ParamDesc smin{"s_min", "s_min", ParamDesc::Type::Float, "pixels", 16.0, 1.0, 1024.0, 1.0,
+                   "s_min of eq. 6: the screen-space penumbra size at which pixels start to be skipped (sec. 5.2: \"for "
+                   "a fully automatic process, we suggest s_min = 16\")",
+                   "screen_adaptive == true"};
+    params.push_back(smin);
+    ParamDesc pattern{"pattern", "h", ParamDesc::Type::Int, "pixels", 4.0, 2.0, 16.0, 1.0,
+                      "width h of the ordered-dither pattern of eq. 6 (Fig. 9's 4 x 4): one pixel in h x h is always "
+                      "computed, the lowest density the widest penumbrae get",
+                      "screen_adaptive == true", ParamDesc::Constraint::PowerOfTwo, {}};
+    params.push_back(pattern);
+    ParamDesc disc{"discontinuities", "", ParamDesc::Type::Bool, "", 1.0, 0, 1, 1,
+                   "compute every pixel near a depth or normal discontinuity of the receivers (sec. 5.2, Fig. 8 "
+                   "right): pull-push would otherwise blend penumbrae across two surfaces (off: Fig. 8 left)",
+                   "screen_adaptive == true"};
+    params.push_back(disc);
     return params;
 }
 
@@ -104,12 +140,20 @@ PassDesc hsmPass() {
     p.name = "hsm";
     p.doc = "hierarchical shadow map: min and max depth pyramid, every level (guennebaud2007 sec. 3)";
     p.reads = shadowTestReads();
+    p.reads.push_back("param:light_multires");
     ResourceDesc hsm = ResourceDesc::texture("hsm", Format::RG32F, SizeRule::like("shadow_map", 2),
                                              "HSM levels 1, 2, ... (level 0 is the shadow map): (min, max) light-view "
                                              "depth over the map texels each texel covers");
     hsm.kind = ResourceKind::Pyramid;
     hsm.levels = 0;
-    p.creates = {hsm};
+    ResourceDesc levels = ResourceDesc::texture("depth_levels", Format::R32F, SizeRule::like("shadow_map"),
+                                                "light_multires: the min depth of every HSM level as one pyramid, mip 0 "
+                                                "the shadow map itself, so the visibility walk reads a level with one "
+                                                "fetch (sec. 5.1)");
+    levels.kind = ResourceKind::Pyramid;
+    levels.levels = 0;
+    levels.appliesWhen = "light_multires == true";
+    p.creates = {hsm, levels};
     p.state = PipelineState::fullscreen();
     p.soft = true;
     p.create = [] { return std::make_unique<HsmPass>(); };
@@ -183,9 +227,227 @@ InternalDesc lightLevelsInternal() {
 std::vector<std::string> backprojectionVisibilityReads() {
     std::vector<std::string> reads = {"gbuffer", "light", "hsm", "kernel_size", "classification", "occluder_depth",
                                       "param:bias_const", "param:bias_slope", "param:max_kernel",
-                                      "param:light_multires", "param:t_k"};
+                                      "param:light_multires", "param:t_k", "param:screen_adaptive", "selection", "depth_levels",
+                                      "pack.counts", "pack.pixels", "pack.blocks"};
     for (const std::string& r : shadowTestReads()) reads.push_back(r);
     return reads;
+}
+
+std::vector<std::string> backprojectionVisibilityModifies() { return {"visibility_sparse"}; }
+
+// ---- the screen-space multi-resolution (sec. 5.2 and 6) -----------------------------------------------
+
+namespace {
+
+const char* kScreenAdaptive = "screen_adaptive == true";
+const char* kDiscontinuities = "screen_adaptive == true && discontinuities == true";
+constexpr int kCountSlots = 12;  // pack.comp's counts
+
+class DiscontinuitiesPass : public Pass {
+public:
+    void execute(PassContext& ctx) override {
+        if (!ctx.applies(kDiscontinuities)) return;
+        // Widened past the largest pixel spacing the pattern leaves: h (one pixel in h x h).
+        buffer_.run(ctx, ctx.texture("discontinuities"), DiscontinuityBuffer::kDefaultDepthThreshold,
+                    DiscontinuityBuffer::kDefaultNormalThreshold, dilationRadiusForSpacing(ctx.paramInt("pattern")));
+    }
+
+private:
+    DiscontinuityBuffer buffer_;
+};
+
+class SelectionPass : public Pass {
+public:
+    void execute(PassContext& ctx) override {
+        if (!ctx.applies(kScreenAdaptive)) return;
+        const ShaderProgram& program = ctx.programs().compute("backprojection/select.comp");
+        program.use();
+        const Texture& map = ctx.texture(shadowTestMap(ctx));
+        setReceiverUniforms(ctx, program, map.width());
+        setLightFrontUniforms(program, ctx.light());
+        glBindTextureUnit(3, ctx.texture("classification").id());
+        program.set("classification", 3);
+        glBindTextureUnit(4, ctx.texture("occluder_depth").id());
+        program.set("occluderDepth", 4);
+        const bool discontinuities = ctx.applies(kDiscontinuities);
+        glBindTextureUnit(5, discontinuities ? ctx.texture("discontinuities").id() : ctx.texture("classification").id());
+        program.set("discontinuities", 5);
+        program.set("useDiscontinuities", discontinuities);
+        program.set("lightWidthWorld", bpLightWidth(bpLightShape(ctx.light()), ctx.light().size));
+        program.set("sMin", float(ctx.param("s_min")));
+        program.set("patternSize", ctx.paramInt("pattern"));
+        const Camera& camera = ctx.camera();
+        program.set("eta", float(ctx.height()) / (2.0f * std::tan(glm::radians(camera.fovYDegrees) * 0.5f)));
+        program.set("cameraPosition", camera.position);
+        program.set("cameraViewFromWorld", camera.viewFromWorld());
+        Texture& selection = ctx.texture("selection");
+        bindImage(0, selection, 0, GL_WRITE_ONLY);
+        bindImage(1, ctx.texture("visibility_sparse"), 0, GL_WRITE_ONLY);
+        program.dispatch(GLuint((selection.width() + 7) / 8), GLuint((selection.height() + 7) / 8));
+        memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    }
+};
+
+class PackPass : public Pass {
+public:
+    void execute(PassContext& ctx) override {
+        if (!ctx.applies(kScreenAdaptive)) return;
+        const GLuint counts = ctx.buffer("pack.counts");
+        glClearNamedBufferData(counts, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+        const ShaderProgram& pack = ctx.programs().compute("backprojection/pack.comp");
+        pack.use();
+        Texture& selection = ctx.texture("selection");
+        bindImage(0, selection, 0, GL_READ_WRITE);
+        bindImage(1, ctx.texture("block_occupancy"), 0, GL_WRITE_ONLY);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ctx.buffer("pack.pixels"));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ctx.buffer("pack.blocks"));
+        const Texture& occupancy = ctx.texture("block_occupancy");
+        pack.dispatch(GLuint((occupancy.width() + 7) / 8), GLuint((occupancy.height() + 7) / 8));
+        memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        const ShaderProgram& args = ctx.programs().compute("backprojection/pack_args.comp");
+        args.use();
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts);
+        args.dispatch(1);
+        memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                      GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        for (GLuint unit = 0; unit < 3; ++unit) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unit, 0);
+    }
+};
+
+class ScreenPullPushPass : public Pass {
+public:
+    void execute(PassContext& ctx) override {
+        if (!ctx.applies(kScreenAdaptive)) return;
+        pullPush_.run(ctx.programs(), ctx.texture("visibility_sparse"), ctx.texture("pull_push.pull"),
+                      ctx.texture("pull_push.push"), ctx.texture("visibility"));
+    }
+
+private:
+    PullPush pullPush_;
+};
+
+}  // namespace
+
+std::vector<PassDesc> screenSelectionPasses() {
+    PassDesc disc;
+    disc.name = "discontinuities";
+    disc.doc = "discontinuity buffer (guennebaud2007 sec. 5.2): thresholded Sobel on the camera depth and normals, "
+               "widened past the pattern's largest pixel spacing; every pixel on it is computed";
+    disc.reads = {"gbuffer", "camera", "param:screen_adaptive", "param:discontinuities", "param:pattern"};
+    ResourceDesc d = ResourceDesc::texture("discontinuities", Format::R32F, SizeRule::frame(),
+                                           "1 on a depth or normal discontinuity of the receivers seen from the camera "
+                                           "(widened by the pattern width h), 0 elsewhere");
+    d.appliesWhen = kDiscontinuities;
+    disc.creates = {d};
+    disc.soft = true;
+    disc.wholeFrame = true;
+    disc.create = [] { return std::make_unique<DiscontinuitiesPass>(); };
+
+    PassDesc sel;
+    sel.name = "selection";
+    sel.doc = "classification and view-dependent selection (guennebaud2007 sec. 5.2 eq. 4-6, sec. 6 pass one): per "
+              "pixel lit, umbra, or penumbra selected by the dither pattern, forced by a discontinuity, or skipped; "
+              "the sparse v-buffer (v, w)";
+    sel.reads = {"gbuffer", "camera", "light", "classification", "occluder_depth", "discontinuities",
+                 "param:screen_adaptive", "param:discontinuities", "param:s_min", "param:pattern",
+                 "param:bias_const", "param:bias_slope"};
+    for (const std::string& r : shadowTestReads()) sel.reads.push_back(r);
+    ResourceDesc codes = ResourceDesc::texture(
+        "selection", Format::R32F, SizeRule::frame(),
+        "per pixel: 0 background, 1 lit, 2 umbra, 3 penumbra selected by eq. 6, 4 forced by a discontinuity, 5 "
+        "evaluated with its whole block (sec. 6), 6 skipped (filled by pull-push)");
+    codes.appliesWhen = kScreenAdaptive;
+    ResourceDesc sparse = ResourceDesc::texture(
+        "visibility_sparse", Format::RG32F, SizeRule::frame(),
+        "the sparse v-buffer before pull-push: (v, w), w = 1 where known (lit, umbra, background, evaluated), 0 on "
+        "skipped pixels");
+    sparse.appliesWhen = kScreenAdaptive;
+    sel.creates = {codes, sparse};
+    sel.soft = true;
+    sel.wholeFrame = true;
+    sel.create = [] { return std::make_unique<SelectionPass>(); };
+
+    PassDesc pack;
+    pack.name = "pack";
+    pack.doc = "block classification and packing (guennebaud2007 sec. 6): blocks of 16 x 16 pixels over 80% selected "
+               "are processed whole, empty ones skipped, the selected pixels of the others compacted by a prefix sum";
+    pack.reads = {"param:screen_adaptive"};
+    pack.modifies = {"selection"};
+    ResourceDesc occupancy = ResourceDesc::texture("block_occupancy", Format::R32F, SizeRule::frame(BP_BLOCK),
+                                                   "per block of 16 x 16 pixels: its selected pixels (eq. 6 or forced) "
+                                                   "over its pixels; > 0.8 processed whole, 0 skipped, else compacted");
+    occupancy.appliesWhen = kScreenAdaptive;
+    ResourceDesc counts;
+    counts.name = "pack.counts";
+    counts.kind = ResourceKind::StorageBuffer;
+    counts.size = SizeRule::fixed(kCountSlots, 1);
+    counts.elementBytes = 4;
+    counts.doc = "[0] compacted pixels, [1-3] their dispatch, [4] whole blocks, [5-7] their dispatch, [8] compacted "
+                 "blocks, [9] skipped blocks, [10] selected pixels";
+    counts.appliesWhen = kScreenAdaptive;
+    ResourceDesc pixels = counts;
+    pixels.name = "pack.pixels";
+    pixels.size = SizeRule::frame();
+    pixels.doc = "the compacted selected pixels, x | y << 16";
+    ResourceDesc blocks = counts;
+    blocks.name = "pack.blocks";
+    blocks.size = SizeRule::frame(BP_BLOCK);
+    blocks.doc = "the blocks processed whole, by index";
+    pack.creates = {occupancy, counts, pixels, blocks};
+    pack.soft = true;
+    pack.wholeFrame = true;
+    pack.create = [] { return std::make_unique<PackPass>(); };
+    return {disc, sel, pack};
+}
+
+PassDesc screenPullPushPass() {
+    PassDesc p;
+    p.name = "pull_push";
+    p.doc = "pull-push reconstruction of the sparse v-buffer (guennebaud2007 sec. 5.2, Gortler et al. 1996): "
+            "computed pixels kept, skipped ones filled from coarser weighted means";
+    p.reads = {"visibility_sparse", "param:screen_adaptive"};
+    p.modifies = {"visibility"};
+    ResourceDesc pull = ResourceDesc::texture(
+        "pull_push.pull", Format::RG32F, SizeRule::frame(2),
+        "pull-push levels 1, 2, ... down to 1x1 (level 0 is visibility_sparse): (v, w) = weighted mean visibility and "
+        "min(1, sum of the weights) over the pixels each texel covers");
+    pull.kind = ResourceKind::Pyramid;
+    pull.levels = 0;
+    pull.appliesWhen = kScreenAdaptive;
+    ResourceDesc push = pull;
+    push.name = "pull_push.push";
+    push.doc = "pull-push levels 1, 2, ... after the push: (completed visibility, the pull weight of that level)";
+    p.creates = {pull, push};
+    p.soft = true;
+    p.wholeFrame = true;
+    p.create = [] { return std::make_unique<ScreenPullPushPass>(); };
+    return p;
+}
+
+std::vector<InternalDesc> screenAdaptiveInternals() {
+    std::vector<InternalDesc> out;
+    InternalDesc sel{"selection", InternalDesc::Kind::Image, "selection", {"code"},
+                     "per pixel (sec. 5.2, 6): 0 background, 1 lit, 2 umbra, 3 selected by eq. 6, 4 forced by a "
+                     "discontinuity, 5 evaluated with its whole block, 6 skipped (pull-push)", "", {}, {}, {}, {}};
+    sel.appliesWhen = kScreenAdaptive;
+    out.push_back(sel);
+    InternalDesc disc{"discontinuities", InternalDesc::Kind::Image, "discontinuities", {"discontinuity"},
+                      "the discontinuity buffer (sec. 5.2): 1 on a widened depth or normal discontinuity", "", {}, {}, {}, {}};
+    disc.appliesWhen = kDiscontinuities;
+    out.push_back(disc);
+    InternalDesc occ{"block_occupancy", InternalDesc::Kind::Image, "block_occupancy", {"selected_fraction"},
+                     "per 16 x 16 block (sec. 6): selected pixels over its pixels; > 0.8 whole, 0 skipped, else "
+                     "compacted", "", {}, {}, {}, {}};
+    occ.appliesWhen = kScreenAdaptive;
+    out.push_back(occ);
+    InternalDesc sparse{"visibility_sparse", InternalDesc::Kind::Image, "visibility_sparse", {"visibility", "weight"},
+                        "the v-buffer before pull-push (sec. 5.2): w = 1 where computed or known, 0 on skipped pixels",
+                        "", {}, {}, {}, {}};
+    sparse.appliesWhen = kScreenAdaptive;
+    out.push_back(sparse);
+    for (InternalDesc& i : pullPushInternals(kScreenAdaptive)) out.push_back(i);
+    return out;
 }
 
 int bpLightShape(const Light& light) {
@@ -497,21 +759,7 @@ std::vector<std::string> backprojectionRecordReads() {
     return reads;
 }
 
-void BackprojectionVisibilityPass::execute(PassContext& ctx) {
-    Texture& visibility = ctx.texture("visibility");
-    // Two variants (visibility_common.glsl): the level arithmetic only where light_multires is on.
-    const bool multires = ctx.param("light_multires") != 0.0;
-    Texture* levels = multires ? &ctx.texture("light_levels") : nullptr;
-    GLuint key = visibility.id() ^ (levels ? levels->id() << 16 : 0u);
-    if (fboTexture_ != key) {
-        if (levels) fbo_ = Framebuffer({&visibility, levels}, nullptr);
-        else fbo_ = Framebuffer({&visibility}, nullptr);
-        fboTexture_ = key;
-    }
-    std::vector<std::string> defines;
-    if (multires) defines.push_back("LIGHT_MULTIRES");
-    const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", shader_, defines);
-    program.use();
+void BackprojectionVisibilityPass::setUniforms(PassContext& ctx, const ShaderProgram& program) {
     const Texture& map = ctx.texture(shadowTestMap(ctx));
     setReceiverUniforms(ctx, program, map.width());
     glBindTextureUnit(3, map.id());
@@ -526,6 +774,12 @@ void BackprojectionVisibilityPass::execute(PassContext& ctx) {
     program.set("hsmTopLevel", hsm.levels());
     glBindTextureUnit(7, ctx.texture("occluder_depth").id());
     program.set("occluderDepth", 7);
+    if (ctx.param("light_multires") != 0.0) {
+        const Texture& levels = ctx.texture("depth_levels");
+        glBindTextureUnit(9, levels.id());
+        program.set("depthLevels", 9);
+        program.set("depthLevelsTop", levels.levels() - 1);
+    }
     program.set("lightWidthWorld", bpLightWidth(bpLightShape(ctx.light()), ctx.light().size));
     program.set("kernelThreshold", float(ctx.param("t_k")));
     program.set("lightShape", bpLightShape(ctx.light()));
@@ -533,9 +787,73 @@ void BackprojectionVisibilityPass::execute(PassContext& ctx) {
     program.set("maxKernelTexels", float(ctx.param("max_kernel")));
     setLightFrontUniforms(program, ctx.light());
     if (extra_) extra_(ctx, program);
+}
+
+void BackprojectionVisibilityPass::execute(PassContext& ctx) {
+    if (ctx.applies(kScreenAdaptive)) {
+        executeSparse(ctx);
+        return;
+    }
+    Texture& visibility = ctx.texture("visibility");
+    // Two variants (visibility_common.glsl): the level arithmetic only where light_multires is on.
+    const bool multires = ctx.param("light_multires") != 0.0;
+    Texture* levels = multires ? &ctx.texture("light_levels") : nullptr;
+    GLuint key = visibility.id() ^ (levels ? levels->id() << 16 : 0u);
+    if (fboTexture_ != key) {
+        if (levels) fbo_ = Framebuffer({&visibility, levels}, nullptr);
+        else fbo_ = Framebuffer({&visibility}, nullptr);
+        fboTexture_ = key;
+    }
+    std::vector<std::string> defines;
+    if (multires) defines.push_back("LIGHT_MULTIRES");
+    const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", shader_, defines);
+    program.use();
+    setUniforms(ctx, program);
     fbo_.bind(ctx.width(), ctx.height());
     drawFullscreenTriangle();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+// Sec. 6's third pass: the visibility of the whole blocks and of the compacted pixels, stored at
+// their places in the sparse v-buffer. Under refineFrame's bands (a scissor, which compute ignores)
+// only the band's pixels are evaluated, so the bands share the work as the fragment path's do.
+void BackprojectionVisibilityPass::executeSparse(PassContext& ctx) {
+    const bool multires = ctx.param("light_multires") != 0.0;
+    GLint box[4] = {0, 0, ctx.width(), ctx.height()};
+    if (glIsEnabled(GL_SCISSOR_TEST)) glGetIntegerv(GL_SCISSOR_BOX, box);
+    const glm::ivec4 band(box[0], box[1], box[0] + box[2], box[1] + box[3]);
+    const bool wholeFrame = band == glm::ivec4(0, 0, ctx.width(), ctx.height());
+    Texture& sparse = ctx.texture("visibility_sparse");
+    if (multires && wholeFrame) {
+        const float none[4] = {-1.0f, -1.0f, -1.0f, 0.0f};
+        glClearTexImage(ctx.texture("light_levels").id(), 0, GL_RGBA, GL_FLOAT, none);
+    } else if (multires) {
+        const float none[4] = {-1.0f, -1.0f, -1.0f, 0.0f};
+        glClearTexSubImage(ctx.texture("light_levels").id(), 0, band.x, band.y, 0, band.z - band.x, band.w - band.y, 1,
+                           GL_RGBA, GL_FLOAT, none);
+    }
+    const GLuint counts = ctx.buffer("pack.counts");
+    for (int whole = 1; whole >= 0; --whole) {
+        std::vector<std::string> defines;
+        if (multires) defines.push_back("LIGHT_MULTIRES");
+        if (whole) defines.push_back("WHOLE_BLOCKS");
+        const ShaderProgram& program = ctx.programs().compute(sparseShader_, defines);
+        program.use();
+        setUniforms(ctx, program);
+        glBindTextureUnit(8, ctx.texture("selection").id());
+        program.set("selectionCodes", 8);
+        program.set("band", band);
+        bindImage(0, sparse, 0, GL_WRITE_ONLY);
+        if (multires) bindImage(1, ctx.texture("light_levels"), 0, GL_WRITE_ONLY);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ctx.buffer("pack.pixels"));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ctx.buffer("pack.blocks"));
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, counts);
+        glDispatchComputeIndirect(GLintptr((whole ? 5 : 1) * sizeof(GLuint)));
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    }
+    for (GLuint unit = 0; unit < 3; ++unit) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unit, 0);
+    memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
 }  // namespace shadowlab

@@ -25,8 +25,22 @@ std::vector<InternalDesc> backprojectionInternals();
 // The visibility pass's second output where light_multires is on, and its internal.
 ResourceDesc lightLevelsResource();
 InternalDesc lightLevelsInternal();
-// What a visibility pass of either technique reads besides its own parameters.
+// What a visibility pass of either technique reads besides its own parameters, and what it
+// modifies: the sparse v-buffer where screen_adaptive is on.
 std::vector<std::string> backprojectionVisibilityReads();
+std::vector<std::string> backprojectionVisibilityModifies();
+
+// The screen-space multi-resolution (guennebaud2007 sec. 5.2 and 6), where `screen_adaptive` is on
+// (every pass does nothing where it is off):
+//  - "discontinuities": the discontinuity buffer (thresholded Sobel on camera depth and normals,
+//    widened past the pattern's largest pixel spacing), where `discontinuities` is on too;
+//  - "selection": per pixel the code (screen_selection.glsl) and the sparse v-buffer (v, w);
+//  - "pack": the block classification (whole, compacted, skipped) and the compacted pixel list;
+//  - then the technique's visibility pass evaluates the listed pixels into the sparse v-buffer;
+//  - "pull_push": the pull-push reconstruction of the sparse v-buffer into "visibility".
+std::vector<PassDesc> screenSelectionPasses();
+PassDesc screenPullPushPass();
+std::vector<InternalDesc> screenAdaptiveInternals();
 
 // The shared light-shape code of the shaders (BP_LIGHT_SQUARE, BP_LIGHT_DISK for disk and sphere)
 // and the unit of light coordinates (w_l / 2, or the radius).
@@ -35,18 +49,22 @@ float bpLightHalfSize(const Light& light);
 // Uniforms of shaders/backprojection/receiver.glsl, and the G-buffer on units 0-2.
 void setReceiverUniforms(PassContext& ctx, const ShaderProgram& program, int smSize);
 
-// The visibility pass of both techniques: a full-screen `shader` (backprojection/gbp06.frag or
-// contour.frag) over the receiver, the shadow map, the kernel and the classification; `extra` sets
-// a technique's own uniforms (contour's t).
+// The visibility pass of both techniques over the receiver, the shadow map, the kernel and the
+// classification: with screen_adaptive off a full-screen `shader` (backprojection/gbp06.frag or
+// contour.frag) writing "visibility"; with it on the compute `sparseShader` (gbp06_sparse.comp,
+// contour_sparse.comp) over the whole blocks and the compacted pixels of "pack", writing the sparse
+// v-buffer. `extra` sets a technique's own uniforms (contour's t).
 class BackprojectionVisibilityPass : public Pass {
 public:
     using Uniforms = std::function<void(PassContext&, const ShaderProgram&)>;
-    BackprojectionVisibilityPass(std::string shader, Uniforms extra = {})
-        : shader_(std::move(shader)), extra_(std::move(extra)) {}
+    BackprojectionVisibilityPass(std::string shader, std::string sparseShader, Uniforms extra = {})
+        : shader_(std::move(shader)), sparseShader_(std::move(sparseShader)), extra_(std::move(extra)) {}
     void execute(PassContext& ctx) override;
 
 private:
-    std::string shader_;
+    void setUniforms(PassContext& ctx, const ShaderProgram& program);
+    void executeSparse(PassContext& ctx);
+    std::string shader_, sparseShader_;
     Uniforms extra_;
     Framebuffer fbo_;
     GLuint fboTexture_ = 0;

@@ -173,19 +173,24 @@ const TechniqueDesc& ssmContourTechnique() {
         visibility.reads.push_back("param:t");
         visibility.reads.push_back("param:beta");
         visibility.creates = {visibilityResource(), lightLevelsResource()};
+        visibility.modifies = backprojectionVisibilityModifies();
         visibility.soft = true;
         visibility.create = [] {
             return std::make_unique<BackprojectionVisibilityPass>(
-                "backprojection/contour.frag",
+                "backprojection/contour.frag", "backprojection/contour_sparse.comp",
                 [](PassContext& ctx, const ShaderProgram& p) {
                     p.set("contourT", float(ctx.param("t")));
                     p.set("contourBeta", ctx.param("light_multires") != 0.0 ? float(ctx.param("beta")) : 0.0f);
                 });
         };
-        d.passes = {shadowMapPass(), hsmPass(), kernelPass(), visibility};
+        d.passes = {shadowMapPass(), hsmPass(), kernelPass()};
+        for (const PassDesc& p : screenSelectionPasses()) d.passes.push_back(p);
+        d.passes.push_back(visibility);
+        d.passes.push_back(screenPullPushPass());
         d.kernelCaps = {backprojectionKernelCap()};
         d.internals = backprojectionInternals();
         d.internals.push_back(lightLevelsInternal());
+        for (const InternalDesc& i : screenAdaptiveInternals()) d.internals.push_back(i);
         d.internals.push_back(contourPixelRecord());
         return d;
     }();

@@ -146,8 +146,10 @@ TEST(Window, EveryTechniqueSceneCameraLightAndResize) {
             // Both back-projections are exact on square-occluder's plate parallel to the light (its
             // samples tile it: RMSE 0.0045 over the penumbra for both, test_backprojection_render.cpp),
             // and so are the penumbra wedges (a planar polygon: RMSE 0.0001, test_ssv.cpp): the same
-            // picture to rounding.
-            EXPECT_LT(d, 0.0005) << what;
+            // picture to rounding; with the light-space multi-resolution (sec. 5.1) GBP06's coarse
+            // levels fatten the plate's border by up to a coarse texel where the contour's shrink it
+            // back (t = 1, Fig. 7c): 0.0009 measured at 240 x 180, bounded by 0.002.
+            EXPECT_LT(d, 0.002) << what;
         } else {
             EXPECT_GT(d, 0.0005) << what << " (shot " << i << ")";
         }

@@ -61,6 +61,7 @@ public:
     void set(const char* name, const glm::vec3& v) const { glProgramUniform3f(id_, location(name), v.x, v.y, v.z); }
     void set(const char* name, const glm::vec4& v) const { glProgramUniform4f(id_, location(name), v.x, v.y, v.z, v.w); }
     void set(const char* name, const glm::ivec2& v) const { glProgramUniform2i(id_, location(name), v.x, v.y); }
+    void set(const char* name, const glm::ivec4& v) const { glProgramUniform4i(id_, location(name), v.x, v.y, v.z, v.w); }
     void set(const char* name, const glm::uvec2& v) const { glProgramUniform2ui(id_, location(name), v.x, v.y); }
     void set(const char* name, const glm::mat3& m) const { glProgramUniformMatrix3fv(id_, location(name), 1, GL_FALSE, &m[0][0]); }
     void set(const char* name, const glm::mat4& m) const { glProgramUniformMatrix4fv(id_, location(name), 1, GL_FALSE, &m[0][0]); }
