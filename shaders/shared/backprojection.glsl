@@ -489,14 +489,17 @@ SHARED_FN int lightLevelForKernel(float kernelTexels, float tk, int topLevel) {
 }
 
 // Eq. 3: the continuous level lambda = log2(w~_k / t_k), w~_k the kernel of eq. 1 from the smooth
-// occluder depth z_occ. Clamped to [max(0, lod_2 - 1 + beta), topLevel], lod_2 = eq. 2's level, so
-// the level actually walked (floor(lambda), and floor(lambda) - 1 only inside the blending band)
-// never has a kernel wider than 2 t_k of its texels: the cost stays bounded (sec. 5.2: "the kernel
-// size is bounded") even where z_occ lies far behind the kernel's nearest occluder.
+// occluder depth z_occ. Clamped to [lo, topLevel] with lo = max(0, log2(w_k / (4 t_k))), w_k the
+// conservative kernel (from z_min): the level walked (floor(lambda), or floor(lambda) - 1 inside
+// the blending band) never has a kernel wider than 8 t_k of its texels (2^(3 + beta) t_k in the band),
+// so the cost stays bounded
+// (sec. 5.2: "the kernel size is bounded") even where z_occ lies far behind the kernel's nearest
+// occluder. The floor is continuous in w_k and sits two levels under eq. 2's, so it only acts where
+// z_occ is that far off: a clamp to eq. 2's discrete level itself would bring back the seams of
+// Fig. 6a wherever it acts (ScreenAdaptiveRender.BlendingRemovesTheSeamsAtLevelTransitions).
 SHARED_FN float lightLevelContinuous(float smoothKernelTexels, float kernelTexels, float tk, float beta, int topLevel) {
     float lambda = smoothKernelTexels > 0.0f ? log2(smoothKernelTexels / tk) : 0.0f;
-    // (+ 1e-4: the rounding of lod_2 - 1 + beta must not land inside the band below it)
-    float lo = max(0.0f, float(lightLevelForKernel(kernelTexels, tk, topLevel) - 1) + beta + 1e-4f);
+    float lo = kernelTexels > 4.0f * tk ? log2(kernelTexels / (4.0f * tk)) : 0.0f;
     return clamp(lambda, min(lo, float(topLevel)), float(topLevel));
 }
 

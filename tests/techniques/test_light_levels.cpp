@@ -53,14 +53,17 @@ TEST(LightLevels, BlendingIsContinuousAndBoundsTheKernel) {
     }
     // No blending with beta = 0.
     EXPECT_EQ(lightLevelBlend(2.01f, 0.0f, top).z, 0.0f);
-    // The clamp of eq. 3: never below eq. 2's level - 1 + beta, so the level walked has a kernel of
-    // at most 2 t_k of its texels, and nothing is walked below it.
+    // The clamp of eq. 3: never below log2(w_k / (4 t_k)), so the level walked has a kernel of at
+    // most 2^(3 + beta) t_k of its texels (8 t_k, and the band below) whatever z_occ says; where z_occ agrees with z_min (ratio 1) at most
+    // 2^(1 + beta) t_k (eq. 2's 2 t_k, and the blending band's level below); and the floor is
+    // continuous in w_k (no seam of its own).
     for (float w = 1.0f; w < 5000.0f; w *= 1.11f)
         for (float ratio : {0.01f, 0.3f, 1.0f}) {
             float lambda = lightLevelContinuous(w * ratio, w, 16.0f, beta, 12);
             glm::vec3 b = lightLevelBlend(lambda, beta, 12);
             int finest = b.z > 0.0f ? int(std::min(b.x, b.y)) : int(b.x);
-            EXPECT_LE(w / float(1 << finest), 2.0f * 16.0f * (1.0f + 1e-5f)) << w << " " << ratio;
+            EXPECT_LE(w / float(1 << finest), std::pow(2.0f, (ratio == 1.0f ? 1.0f : 3.0f) + beta) * 16.0f * (1.0f + 1e-5f)) << w << " " << ratio;
+            EXPECT_LT(std::abs(lightLevelContinuous(w * ratio * 1.0001f, w * 1.0001f, 16.0f, beta, 12) - lambda), 1e-3f);
         }
 }
 
