@@ -81,7 +81,7 @@ float occludedAreaAtLevel(int level, float w) {
 // Sec. 5.1: the continuous level lambda from z_occ (eq. 3) and the pseudo-code's blending.
 vec3 chooseLevels(float w, float zOcc) {
     float smoothKernel = hsmKernelTexels(lightWidthWorld, shadowMapSize, lightTanHalfFov, zOcc, receiver.position.z);
-    float lambda = lightLevelContinuous(smoothKernel, w, kernelThreshold, contourBeta, hsmTopLevel);
+    float lambda = lightLevelContinuous(smoothKernel, w, kernelThreshold, hsmTopLevel);
     chosenLambda = lambda;
     return lightLevelBlend(lambda, contourBeta, hsmTopLevel);
 }

@@ -497,7 +497,7 @@ SHARED_FN int lightLevelForKernel(float kernelTexels, float tk, int topLevel) {
 // occluder. The floor is continuous in w_k and sits two levels under eq. 2's, so it only acts where
 // z_occ is that far off: a clamp to eq. 2's discrete level itself would bring back the seams of
 // Fig. 6a wherever it acts (ScreenAdaptiveRender.BlendingRemovesTheSeamsAtLevelTransitions).
-SHARED_FN float lightLevelContinuous(float smoothKernelTexels, float kernelTexels, float tk, float beta, int topLevel) {
+SHARED_FN float lightLevelContinuous(float smoothKernelTexels, float kernelTexels, float tk, int topLevel) {
     float lambda = smoothKernelTexels > 0.0f ? log2(smoothKernelTexels / tk) : 0.0f;
     float lo = kernelTexels > 4.0f * tk ? log2(kernelTexels / (4.0f * tk)) : 0.0f;
     return clamp(lambda, min(lo, float(topLevel)), float(topLevel));

@@ -599,7 +599,7 @@ glm::vec3 chooseLightLevels(const BackprojectionCpu& c, const BpReceiver& r, flo
         return glm::vec3(float(lod), 0.0f, 0.0f);
     }
     float smoothKernel = hsmKernelTexels(c.lightWidth, float(c.size), c.view.tanHalfFov, zOcc, r.position.z);
-    float l = lightLevelContinuous(smoothKernel, w, tk, beta, c.topLevel);
+    float l = lightLevelContinuous(smoothKernel, w, tk, c.topLevel);
     if (lambda) *lambda = l;
     return lightLevelBlend(l, beta, c.topLevel);
 }
@@ -617,6 +617,14 @@ PixelRecordStart startPixelRecord(PassContext& ctx, glm::ivec2 pixel, float beta
         j["background"] = true;
         s.done = true;
         return s;
+    }
+    // The screen-space selection's code at this pixel (sec. 5.2, 6): a skipped pixel's image value is
+    // pull-push's, not the back-projection the record recomputes.
+    j["selection"] = nullptr;
+    if (ctx.param("screen_adaptive") != 0.0) {
+        static const char* names[] = {"background", "lit", "umbra", "selected", "forced", "block", "skipped"};
+        const int code = int(ctx.pixelValue("selection", pixel));
+        j["selection"] = code >= 0 && code <= SEL_SKIPPED ? names[code] : "unknown";
     }
     s.cpu = BackprojectionCpu::read(ctx);
     const BackprojectionCpu& c = s.cpu;
@@ -735,6 +743,9 @@ std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema() {
                        "iterations, steps [{level, texels [x0,y0,x1,y1] of that level, min, max, refined_texels}], "
                        "texel_range (level-0 texels walked)"},
             {"classification", "lit, umbra or penumbra (from the kernel's depth bounds)"},
+            {"selection", "screen-space selection (sec. 5.2, 6; null when screen_adaptive is off): lit, umbra, "
+                          "selected (eq. 6), forced (a discontinuity), block (its 16 x 16 block processed whole), or "
+                          "skipped: then the image holds pull-push's value, not visibility_recomputed"},
             {"light_levels", "light-space multi-resolution (sec. 5.1; null when light_multires is off): t_k, "
                              "lod_eq2 (eq. 2), lambda (eq. 3 from kernel.occluder_depth; GBP06: eq. 2's level), "
                              "level walked, blend_level and blend_weight (sec. 5.1's pseudo-code), "
@@ -754,7 +765,8 @@ std::vector<std::pair<std::string, std::string>> backprojectionRecordSchema() {
 
 std::vector<std::string> backprojectionRecordReads() {
     std::vector<std::string> reads = {"gbuffer", "light", "hsm", "visibility", "param:bias_const", "param:bias_slope",
-                                      "param:max_kernel", "param:light_multires", "param:t_k"};
+                                      "param:max_kernel", "param:light_multires", "param:t_k",
+                                      "param:screen_adaptive", "selection"};
     for (const std::string& r : shadowTestReads()) reads.push_back(r);
     return reads;
 }

@@ -59,11 +59,11 @@ TEST(LightLevels, BlendingIsContinuousAndBoundsTheKernel) {
     // continuous in w_k (no seam of its own).
     for (float w = 1.0f; w < 5000.0f; w *= 1.11f)
         for (float ratio : {0.01f, 0.3f, 1.0f}) {
-            float lambda = lightLevelContinuous(w * ratio, w, 16.0f, beta, 12);
+            float lambda = lightLevelContinuous(w * ratio, w, 16.0f, 12);
             glm::vec3 b = lightLevelBlend(lambda, beta, 12);
             int finest = b.z > 0.0f ? int(std::min(b.x, b.y)) : int(b.x);
             EXPECT_LE(w / float(1 << finest), std::pow(2.0f, (ratio == 1.0f ? 1.0f : 3.0f) + beta) * 16.0f * (1.0f + 1e-5f)) << w << " " << ratio;
-            EXPECT_LT(std::abs(lightLevelContinuous(w * ratio * 1.0001f, w * 1.0001f, 16.0f, beta, 12) - lambda), 1e-3f);
+            EXPECT_LT(std::abs(lightLevelContinuous(w * ratio * 1.0001f, w * 1.0001f, 16.0f, 12) - lambda), 1e-3f);
         }
 }
 
@@ -181,7 +181,7 @@ TEST_F(LightLevelsGpu, SharedMathAgreesWithCpu) {
         const MathCase& c = cases[k];
         const MathResult& g = gpu[k];
         int top = c.ints.x;
-        float lambda = lightLevelContinuous(c.kernel.y, c.kernel.x, c.kernel.z, c.kernel.w, top);
+        float lambda = lightLevelContinuous(c.kernel.y, c.kernel.x, c.kernel.z, top);
         EXPECT_EQ(g.levels.x, float(lightLevelForKernel(c.kernel.x, c.kernel.z, top))) << k;
         EXPECT_NEAR(g.levels.y, lambda, 1e-5f * std::max(1.0f, lambda)) << k;
         float hint = occluderDepthHint(c.depths, glm::vec2(c.hint), c.hint.z, c.hint.w);

@@ -27,7 +27,7 @@ void main() {
     Case c = cases[k];
     Result r;
     int top = c.ints.x;
-    float lambda = lightLevelContinuous(c.kernel.y, c.kernel.x, c.kernel.z, c.kernel.w, top);
+    float lambda = lightLevelContinuous(c.kernel.y, c.kernel.x, c.kernel.z, top);
     BpReceiver rec;
     rec.inside = 1.0;
     rec.position = c.receiver.xyz;
