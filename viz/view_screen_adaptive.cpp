@@ -239,6 +239,12 @@ void buildSkippedPixels(ViewContext& ctx, ViewResult& result) {
         camera->SetParallelScale(scale);
         camera->SetFocalPoint(f[0], f[1] + shift, f[2]);
         camera->SetPosition(p[0], p[1] + shift, p[2]);
+        // Where the frame lands in the picture (pixels, y from the top): [x0, y0, x1, y1], for
+        // checking the picture pixel by pixel against the codes.
+        const double px = panelH / (2.0 * scale), fx = camera->GetFocalPoint()[0], fy = camera->GetFocalPoint()[1];
+        auto sx = [&](double wx) { return (wx - fx) * px + 0.5 * panelW; };
+        auto sy = [&](double wy) { return ctx.out.height() - (strip * ctx.out.height() + (wy - fy) * px + 0.5 * panelH); };
+        result.data["image_rect"] = {sx(-0.5), sy(codes.height - 0.5), sx(codes.width - 0.5), sy(-0.5)};
     }
     if (!outlines.empty()) panel->AddActor(lineActor(outlines, kWholeBlockRgb, 1.5f));
     panel->AddActor2D(titleActor("selection (sec. 5.2, 6)", ctx.out.height()));
