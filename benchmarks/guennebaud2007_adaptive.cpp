@@ -149,21 +149,27 @@ int main(int argc, char** argv) {
     }
 
     // 3.
-    std::printf("\n3. shadow_ms as t_k shrinks (screen_adaptive off) and as s_min grows (light_multires off), plant "
+    // Eq. 6 computes a pixel iff s_scr < s_min sqrt(rank): a larger s_min computes more pixels, so the
+    // time falls as s_min shrinks (the "as s_min grows" reads eq. 6 the other way round),
+    // down to the pattern's floor (one pixel in h x h, plus the forced and whole-block ones), where
+    // it stays: the check allows each step 5% of noise on this shared machine.
+    std::printf("\n3. shadow_ms as t_k shrinks (screen_adaptive off) and as s_min shrinks (light_multires off), plant "
                 "512x512, light size 2\n");
     std::vector<Config> part3;
     for (const char* tk : {"48", "32", "24", "16", "8"})
         part3.push_back({std::string("t_k ") + tk, "ssm-contour", {{"screen_adaptive", "false"}, {"t_k", tk}}, {}, {}});
-    for (const char* smin : {"2", "4", "8", "16", "32"})
+    for (const char* smin : {"64", "32", "16", "8", "4", "2"})
         part3.push_back({std::string("s_min ") + smin, "ssm-contour", {{"light_multires", "false"}, {"s_min", smin}}, {}, {}});
     runInterleaved(plant, part3, 512, 2.0f, rounds);
     bool tkFalls = true, sminFalls = true;
     for (size_t i = 0; i < part3.size(); ++i) {
         std::printf("  %-10s %10.1f ms  %s\n", part3[i].label.c_str(), part3[i].shadowMs, range(part3[i]).c_str());
         if (i == 0 || i == 5) continue;
-        (i < 5 ? tkFalls : sminFalls) = (i < 5 ? tkFalls : sminFalls) && part3[i].shadowMs <= part3[i - 1].shadowMs;
+        bool& falls = i < 5 ? tkFalls : sminFalls;
+        falls = falls && part3[i].shadowMs <= 1.05 * part3[i - 1].shadowMs;
     }
-    std::printf("  falls as t_k shrinks: %s; as s_min grows: %s\n", tkFalls ? "yes" : "NO", sminFalls ? "yes" : "NO");
+    std::printf("  falls as t_k shrinks: %s; as s_min shrinks: %s (each step at most 5%% up)\n", tkFalls ? "yes" : "NO",
+                sminFalls ? "yes" : "NO");
     ok = ok && tkFalls && sminFalls;
 
     // 4.
