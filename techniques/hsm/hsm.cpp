@@ -227,8 +227,8 @@ InternalDesc lightLevelsInternal() {
 std::vector<std::string> backprojectionVisibilityReads() {
     std::vector<std::string> reads = {"gbuffer", "light", "hsm", "kernel_size", "classification", "occluder_depth",
                                       "param:bias_const", "param:bias_slope", "param:max_kernel",
-                                      "param:light_multires", "param:t_k", "param:screen_adaptive", "selection", "depth_levels",
-                                      "pack.counts", "pack.pixels", "pack.blocks"};
+                                      "param:light_multires", "param:t_k", "param:screen_adaptive", "selection", "depth_levels", "block_occupancy",
+                                      "pack.counts", "pack.pixels", "pack.offsets"};
     for (const std::string& r : shadowTestReads()) reads.push_back(r);
     return reads;
 }
@@ -294,21 +294,26 @@ public:
         if (!ctx.applies(kScreenAdaptive)) return;
         const GLuint counts = ctx.buffer("pack.counts");
         glClearNamedBufferData(counts, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-        const ShaderProgram& pack = ctx.programs().compute("backprojection/pack.comp");
-        pack.use();
         Texture& selection = ctx.texture("selection");
-        bindImage(0, selection, 0, GL_READ_WRITE);
-        bindImage(1, ctx.texture("block_occupancy"), 0, GL_WRITE_ONLY);
+        const Texture& occupancy = ctx.texture("block_occupancy");
+        const glm::ivec2 blocks(occupancy.width(), occupancy.height());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ctx.buffer("pack.pixels"));
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ctx.buffer("pack.blocks"));
-        const Texture& occupancy = ctx.texture("block_occupancy");
-        pack.dispatch(GLuint((occupancy.width() + 7) / 8), GLuint((occupancy.height() + 7) / 8));
-        memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        const ShaderProgram& args = ctx.programs().compute("backprojection/pack_args.comp");
-        args.use();
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts);
-        args.dispatch(1);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ctx.buffer("pack.offsets"));
+        for (int step = 1; step <= 3; ++step) {  // count, scan, write (pack.comp)
+            const ShaderProgram& pack =
+                ctx.programs().compute("backprojection/pack.comp", {"PACK_STEP " + std::to_string(step)});
+            pack.use();
+            pack.set("blocks", blocks);
+            if (step != 2) {
+                bindImage(0, selection, 0, GL_READ_WRITE);
+                bindImage(1, occupancy, 0, GL_WRITE_ONLY);
+                pack.dispatch(GLuint((blocks.x + 7) / 8), GLuint((blocks.y + 7) / 8));
+            } else {
+                pack.dispatch(1);
+            }
+            memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        }
         memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                       GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         for (GLuint unit = 0; unit < 3; ++unit) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unit, 0);
@@ -371,7 +376,8 @@ std::vector<PassDesc> screenSelectionPasses() {
     PassDesc pack;
     pack.name = "pack";
     pack.doc = "block classification and packing (guennebaud2007 sec. 6): blocks of 16 x 16 pixels over 80% selected "
-               "are processed whole, empty ones skipped, the selected pixels of the others compacted by a prefix sum";
+               "are processed whole (all their penumbra pixels), empty ones skipped, the selected pixels of the others "
+               "compacted; a prefix sum over the blocks orders the list by block rows";
     pack.reads = {"param:screen_adaptive"};
     pack.modifies = {"selection"};
     ResourceDesc occupancy = ResourceDesc::texture("block_occupancy", Format::R32F, SizeRule::frame(BP_BLOCK),
@@ -383,17 +389,18 @@ std::vector<PassDesc> screenSelectionPasses() {
     counts.kind = ResourceKind::StorageBuffer;
     counts.size = SizeRule::fixed(kCountSlots, 1);
     counts.elementBytes = 4;
-    counts.doc = "[0] compacted pixels, [1-3] their dispatch, [4] whole blocks, [5-7] their dispatch, [8] compacted "
+    counts.doc = "[0] pixels listed, [1-3] the visibility pass's dispatch, [4] blocks processed whole, [8] compacted "
                  "blocks, [9] skipped blocks, [10] selected pixels";
     counts.appliesWhen = kScreenAdaptive;
     ResourceDesc pixels = counts;
     pixels.name = "pack.pixels";
     pixels.size = SizeRule::frame();
-    pixels.doc = "the compacted selected pixels, x | y << 16";
+    pixels.doc = "the pixels to evaluate, x | y << 16, by blocks in row-major order (a whole block's penumbra pixels, "
+                 "a compacted block's selected ones, in scan order)";
     ResourceDesc blocks = counts;
-    blocks.name = "pack.blocks";
+    blocks.name = "pack.offsets";
     blocks.size = SizeRule::frame(BP_BLOCK);
-    blocks.doc = "the blocks processed whole, by index";
+    blocks.doc = "per block of 16 x 16 pixels (row-major): the first entry of its pixels in pack.pixels";
     pack.creates = {occupancy, counts, pixels, blocks};
     pack.soft = true;
     pack.wholeFrame = true;
@@ -844,26 +851,38 @@ void BackprojectionVisibilityPass::executeSparse(PassContext& ctx) {
         glClearTexSubImage(ctx.texture("light_levels").id(), 0, band.x, band.y, 0, band.z - band.x, band.w - band.y, 1,
                            GL_RGBA, GL_FLOAT, none);
     }
+    // The blocks the band covers, as one range of the row-major list: from the band's first block
+    // to its last (a superset when the band is narrower than the frame; `band` filters the pixels).
+    const Texture& occupancy = ctx.texture("block_occupancy");
+    const int blocksX = occupancy.width(), blockCount = occupancy.width() * occupancy.height();
+    const int bx0 = band.x / BP_BLOCK, by0 = band.y / BP_BLOCK;
+    const int bx1 = (band.z - 1) / BP_BLOCK, by1 = (band.w - 1) / BP_BLOCK;
+    const int firstBlock = by0 * blocksX + bx0, endBlock = by1 * blocksX + bx1 + 1;
     const GLuint counts = ctx.buffer("pack.counts");
-    for (int whole = 1; whole >= 0; --whole) {
-        std::vector<std::string> defines;
-        if (multires) defines.push_back("LIGHT_MULTIRES");
-        if (whole) defines.push_back("WHOLE_BLOCKS");
-        const ShaderProgram& program = ctx.programs().compute(sparseShader_, defines);
-        program.use();
-        setUniforms(ctx, program);
-        glBindTextureUnit(8, ctx.texture("selection").id());
-        program.set("selectionCodes", 8);
-        program.set("band", band);
-        bindImage(0, sparse, 0, GL_WRITE_ONLY);
-        if (multires) bindImage(1, ctx.texture("light_levels"), 0, GL_WRITE_ONLY);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ctx.buffer("pack.pixels"));
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ctx.buffer("pack.blocks"));
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, counts);
-        glDispatchComputeIndirect(GLintptr((whole ? 5 : 1) * sizeof(GLuint)));
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ctx.buffer("pack.pixels"));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ctx.buffer("pack.offsets"));
+    const ShaderProgram& args = ctx.programs().compute("backprojection/pack_args.comp");
+    args.use();
+    args.set("firstBlock", firstBlock);
+    args.set("endBlock", endBlock);
+    args.set("blockCount", blockCount);
+    args.dispatch(1);
+    memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    std::vector<std::string> defines;
+    if (multires) defines.push_back("LIGHT_MULTIRES");
+    const ShaderProgram& program = ctx.programs().compute(sparseShader_, defines);
+    program.use();
+    setUniforms(ctx, program);
+    program.set("band", band);
+    program.set("firstBlock", firstBlock);
+    program.set("endBlock", endBlock);
+    program.set("blockCount", blockCount);
+    bindImage(0, sparse, 0, GL_WRITE_ONLY);
+    if (multires) bindImage(1, ctx.texture("light_levels"), 0, GL_WRITE_ONLY);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, counts);
+    glDispatchComputeIndirect(GLintptr(1 * sizeof(GLuint)));
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     for (GLuint unit = 0; unit < 3; ++unit) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unit, 0);
     memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }

@@ -188,6 +188,7 @@ TEST_F(ScreenAdaptiveRender, EvaluatedPixelsAreTheFullEvaluationAndTheRestIsFill
                 if (cls == 2) {
                     EXPECT_EQ(skipped, 0);
                     ++whole;
+                    listed += sel + block;  // every penumbra pixel of a block processed whole
                 } else {
                     EXPECT_EQ(block, 0);
                     if (cls == 1) {
