@@ -246,7 +246,7 @@ void addStrip(vtkRenderer* r, vtkLookupTable* lut, int x0, int y0, int x1, int y
     r->AddActor2D(actor);
 }
 
-void addSwatch(vtkRenderer* r, int x, int y, int size) {
+void addSwatch(vtkRenderer* r, int x, int y, int size, glm::vec3 rgb = kBackgroundGrey) {
     vtkNew<vtkPoints> points;
     vtkNew<vtkCellArray> cells;
     vtkIdType ids[4] = {points->InsertNextPoint(x, y, 0), points->InsertNextPoint(x + size, y, 0),
@@ -262,7 +262,7 @@ void addSwatch(vtkRenderer* r, int x, int y, int size) {
     mapper->SetTransformCoordinate(coordinate);
     vtkNew<vtkActor2D> actor;
     actor->SetMapper(mapper);
-    actor->GetProperty()->SetColor(kBackgroundGrey.r, kBackgroundGrey.g, kBackgroundGrey.b);
+    actor->GetProperty()->SetColor(rgb.r, rgb.g, rgb.b);
     r->AddActor2D(actor);
 }
 
@@ -276,6 +276,84 @@ void viewportPixels(vtkRenderer* r, int& x0, int& y0, int& w, int& h) {
 }
 
 }  // namespace
+
+// ---- legends --------------------------------------------------------------------------------------
+namespace {
+struct LegendMetrics {
+    int px, margin, swatch, rowGap;
+};
+LegendMetrics legendMetrics(int frameHeight) {
+    const int px = textPx(frameHeight);
+    return {px, std::max(4, px / 3), px, std::max(3, px / 4)};
+}
+}  // namespace
+
+int legendWidthPx(const std::string& title, const std::vector<LegendEntry>& entries, int frameHeight) {
+    const LegendMetrics m = legendMetrics(frameHeight);
+    int need = 0, w = 0, h = 0;
+    auto t = barText("", m.px, false);
+    for (const LegendEntry& e : entries) {
+        textExtent(t->GetTextProperty(), e.text, w, h);
+        need = std::max(need, m.margin + m.swatch + m.margin / 2 + w + m.margin);
+    }
+    auto b = barText("", m.px, true);
+    for (size_t i = 0, j; i <= title.size(); i = j + 1) {  // the title wraps: its longest word must fit
+        j = title.find(' ', i);
+        if (j == std::string::npos) j = title.size();
+        textExtent(b->GetTextProperty(), title.substr(i, j - i), w, h);
+        need = std::max(need, w + 2 * m.margin);
+    }
+    return need;
+}
+
+int legendHeightPx(const std::string& title, const std::vector<LegendEntry>& entries, int frameHeight, int widthPx) {
+    const LegendMetrics m = legendMetrics(frameHeight);
+    int w = 0, h = 0, total = m.margin;
+    if (!title.empty()) {
+        auto b = barText("", m.px, true);
+        textExtent(b->GetTextProperty(), wrapText(b->GetTextProperty(), title, widthPx - 2 * m.margin), w, h);
+        total += h + m.rowGap;
+    }
+    auto t = barText("", m.px, false);
+    for (const LegendEntry& e : entries) {
+        textExtent(t->GetTextProperty(), wrapText(t->GetTextProperty(), e.text, widthPx - 2 * m.margin - m.swatch - m.margin / 2), w, h);
+        total += std::max(m.swatch, h) + m.rowGap;
+    }
+    return total + m.margin;
+}
+
+void addLegend(vtkRenderer* r, const std::string& title, const std::vector<LegendEntry>& entries, int frameHeight) {
+    if (!r->GetRenderWindow()) throw InternalError("addLegend: the renderer is not in a window yet");
+    int vx, vy, W, H;
+    viewportPixels(r, vx, vy, W, H);
+    const LegendMetrics m = legendMetrics(frameHeight);
+    int top = H - m.margin, w = 0, h = 0;  // viewport pixels, y up
+    if (!title.empty()) {
+        auto b = barText("", m.px, true);
+        const std::string wrapped = wrapText(b->GetTextProperty(), title, W - 2 * m.margin);
+        b->SetInput(wrapped.c_str());
+        b->GetTextProperty()->SetVerticalJustificationToTop();
+        b->SetPosition(m.margin, top);
+        textExtent(b->GetTextProperty(), wrapped, w, h);
+        r->AddActor2D(b);
+        top -= h + m.rowGap;
+    }
+    for (const LegendEntry& e : entries) {
+        // An entry wider than the panel wraps (never shrinks) and its row grows.
+        auto t = barText("", m.px, false);
+        const std::string text = wrapText(t->GetTextProperty(), e.text, W - 2 * m.margin - m.swatch - m.margin / 2);
+        t->SetInput(text.c_str());
+        textExtent(t->GetTextProperty(), text, w, h);
+        const int row = std::max(m.swatch, h);
+        const int y = top - row;
+        addSwatch(r, m.margin, y + (row - m.swatch) / 2, m.swatch, e.rgb);
+        t->GetTextProperty()->SetVerticalJustificationToCentered();
+        t->SetPosition(m.margin + m.swatch + m.margin / 2, y + row / 2);
+        r->AddActor2D(t);
+        top = y - m.rowGap;
+    }
+}
+
 
 int colourBarWidthPx(vtkLookupTable* lut, const std::string& title, int frameHeight) {
     const BarMetrics m = barMetrics(lut, frameHeight);

@@ -51,6 +51,17 @@ void addColourBar(vtkRenderer* renderer, vtkLookupTable* lut, const std::string&
 // The width a vertical colour bar needs so that its labels and the title's longest word fit.
 int colourBarWidthPx(vtkLookupTable* lut, const std::string& title, int frameHeight);
 
+// A legend of categories (the skipped-pixels classes, the pull-push view's marks): drawn into
+// `renderer`'s whole viewport (already placed in the window): the title on top, wrapped to the
+// width, then one row per entry, a swatch of its colour and its text, at the standard's size
+// (textPx), wrapped to the width when it is wider (its row grows). legendWidthPx / legendHeightPx: what the legend needs for its widest row and its rows.
+struct LegendEntry {
+    glm::vec3 rgb;
+    std::string text;
+};
+void addLegend(vtkRenderer* renderer, const std::string& title, const std::vector<LegendEntry>& entries, int frameHeight);
+int legendWidthPx(const std::string& title, const std::vector<LegendEntry>& entries, int frameHeight);
+int legendHeightPx(const std::string& title, const std::vector<LegendEntry>& entries, int frameHeight, int widthPx);
 // Every text actor of the frame with its box (text_box.h). Valid after a render.
 std::vector<TextBox> textLayout(VtkOffscreen& out);
 // Problems of a layout against the standard, one line each ("" when none): two boxes overlapping, a

@@ -8,6 +8,7 @@
 #include <vtkPolyDataAlgorithm.h>
 #include <vtkSmartPointer.h>
 
+#include <array>
 #include <functional>
 #include <map>
 #include <string>
@@ -175,6 +176,14 @@ void writeImageData(vtkImageData* data, const std::string& path);
 std::pair<float, float> finiteRange(const Image& image, int c = 0);
 // "%.6g"-style short number for captions.
 std::string formatNumber(double v, int digits = 4);
+
+// ---- the screen-space multi-resolution views (skipped-pixels, pull-push) ----------------------------
+// "" when the light's technique writes the internals `names` now; else why not: it has none, or
+// only while screen_adaptive is on (the reason says to turn it on).
+std::string screenAdaptiveRefusal(const Renderer& renderer, const ViewRequest& request, const std::vector<std::string>& names);
+// The pixels of each code SEL_BACKGROUND (0) .. SEL_SKIPPED (6) of a `selection` image, exactly
+// those the skipped-pixels view colours (InternalError on any other value).
+std::array<size_t, 7> selectionCounts(const Image& selection);
 
 // ---- the registry (views.cpp) ---------------------------------------------------------------------
 const std::vector<const ViewDesc*>& allViews();

@@ -107,6 +107,7 @@ TEST_F(TextStandard, EveryViewAtTwoSizesKeepsTheTextStandard) {
         {"reuse", "sssm", false},       {"backprojection", "ssm-contour", true},
         {"backprojection", "ssm-gbp06", true}, {"hsm", "ssm-contour", true},
         {"backprojection", "ssv", true},       {"wedges", "ssv", false},        {"wedges", "ssv", true},
+        {"skipped-pixels", "ssm-contour", false}, {"pull-push", "ssm-contour", false},
     };
     std::set<std::string> covered;
     for (const ViewCase& c : cases) {
