@@ -123,7 +123,7 @@ TEST(LessonFormat, CommandLineRefusesABadLessonWithExitCode2AndWritesNothing) {
     EXPECT_FALSE(fs::exists(out)) << "nothing is written for a bad lesson";
     r = test::run("lesson nonexistent --check");
     EXPECT_EQ(r.code, 2);
-    EXPECT_NE(r.output.find("unknown lesson 'nonexistent' (lessons: backprojection, intro, pcss-sssm, shadow-mapping"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("unknown lesson 'nonexistent' (lessons: adaptive-precision, backprojection, intro, pcss-sssm, shadow-mapping"), std::string::npos) << r.output;
 }
 
 // ---- states ---------------------------------------------------------------------------------------
