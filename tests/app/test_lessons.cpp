@@ -123,7 +123,7 @@ TEST(LessonFormat, CommandLineRefusesABadLessonWithExitCode2AndWritesNothing) {
     EXPECT_FALSE(fs::exists(out)) << "nothing is written for a bad lesson";
     r = test::run("lesson nonexistent --check");
     EXPECT_EQ(r.code, 2);
-    EXPECT_NE(r.output.find("unknown lesson 'nonexistent' (lessons: backprojection, intro, pcss-sssm, shadow-mapping"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("unknown lesson 'nonexistent' (lessons: adaptive-precision, backprojection, intro, pcss-sssm, shadow-mapping"), std::string::npos) << r.output;
 }
 
 // ---- states ---------------------------------------------------------------------------------------
@@ -713,9 +713,10 @@ TEST(LessonHeadless, ShadowMappingRendersEveryStepWithTasksCheckedBothWays) { re
 TEST(LessonHeadless, PcssSssmRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("pcss-sssm"); }
 TEST(LessonHeadless, BackprojectionRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("backprojection"); }
 TEST(LessonHeadless, SoftShadowVolumesRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("soft-shadow-volumes"); }
+TEST(LessonHeadless, AdaptivePrecisionRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("adaptive-precision"); }
 TEST(LessonHeadless, EveryLessonHasAHeadlessTest) {
     EXPECT_EQ(listLessons(),
-              (std::vector<std::string>{"backprojection", "intro", "pcss-sssm", "shadow-mapping", "soft-shadow-volumes"}))
+              (std::vector<std::string>{"adaptive-precision", "backprojection", "intro", "pcss-sssm", "shadow-mapping", "soft-shadow-volumes"}))
         << "a new lesson needs its own LessonHeadless test above";
 }
 
@@ -808,6 +809,7 @@ TEST(LessonCheck, ShadowMappingAt320And1024) { checkAtTwoSizes("shadow-mapping")
 TEST(LessonCheck, PcssSssmAt320And1024) { checkAtTwoSizes("pcss-sssm"); }
 TEST(LessonCheck, BackprojectionAt320And1024) { checkAtTwoSizes("backprojection"); }
 TEST(LessonCheck, SoftShadowVolumesAt320And1024) { checkAtTwoSizes("soft-shadow-volumes"); }
+TEST(LessonCheck, AdaptivePrecisionAt320And1024) { checkAtTwoSizes("adaptive-precision"); }
 TEST(LessonCheck, SizesAreForCheckAndTrailingSlashIsAFolder) {
     EXPECT_EQ(test::run("lesson intro --sizes 320x320").code, 2);
     EXPECT_EQ(test::run("lesson intro --check --sizes 320x").code, 2);
