@@ -7,10 +7,13 @@
 
 #include <cmath>
 #include <map>
+#include <random>
 #include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "gl/buffer.h"
+#include "gl/program.h"
 #include "graph/renderer.h"
 #include "image/metrics.h"
 #include "scene/scene.h"
@@ -91,6 +94,70 @@ TEST(ScreenSelection, EquationsFourToSix) {
     EXPECT_EQ(blockClass(204, 256), 1);  // 79.7%
     EXPECT_EQ(blockClass(205, 256), 2);  // 80.1%
     EXPECT_EQ(blockClass(3, 3), 2);      // a block cut by the frame's border counts its own pixels
+}
+
+struct SelectionCase {
+    glm::vec4 sizes, screen;
+    glm::ivec4 ints;
+    glm::uvec4 bits;
+};
+struct SelectionResult {
+    glm::vec4 values;
+    glm::ivec4 codes;
+    glm::uvec4 bits;
+};
+
+class ScreenSelectionGpu : public testing::GLTest {};
+
+// The same functions on the GPU (shaders/tests/visibility/screen_selection_math.comp) and on the
+// CPU: equal results (the codes, ranks, bits and classes exactly; the sizes within float rounding;
+// selections within 1e-4 of the threshold are not compared).
+TEST_F(ScreenSelectionGpu, SharedMathAgreesWithCpu) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<SelectionCase> cases;
+    for (int k = 0; k < 1024; ++k) {
+        SelectionCase c{};
+        const float zOcc = k % 11 == 0 ? 0.0f : 0.5f + 5.0f * u(rng);
+        c.sizes = glm::vec4(0.1f + 2.0f * u(rng), 0.5f + 6.0f * u(rng), zOcc, 1.0f + 40.0f * u(rng));
+        c.screen = glm::vec4(100.0f + 900.0f * u(rng), 0.5f + 10.0f * u(rng), u(rng), 0.0f);
+        const int h = 1 << (1 + k % 4);
+        c.ints = glm::ivec4(int(rng() % 4096), int(rng() % 4096), h, int(rng() % 257));
+        const uint blocks = 1u + uint(rng() % 31u);
+        c.bits = glm::uvec4(uint(rng()), uint(rng()), blocks, uint(rng() % blocks));
+        cases.push_back(c);
+    }
+    Buffer in(cases.size() * sizeof(SelectionCase), cases.data()), out(cases.size() * sizeof(SelectionResult));
+    const ShaderProgram& program = programCache().compute("tests/visibility/screen_selection_math.comp");
+    in.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+    out.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
+    program.set("count", unsigned(cases.size()));
+    program.dispatch(GLuint((cases.size() + 63) / 64));
+    memoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<SelectionResult> gpu = out.read<SelectionResult>();
+    size_t selectedCompared = 0;
+    for (size_t k = 0; k < cases.size(); ++k) {
+        const SelectionCase& c = cases[k];
+        const SelectionResult& g = gpu[k];
+        const float sObj = penumbraObjectSize(c.sizes.x, c.sizes.y, c.sizes.z);
+        const float sScr = penumbraScreenSize(sObj, c.screen.x, c.screen.y, c.screen.z);
+        const int rank = ditherRank(c.ints.x, c.ints.y, c.ints.z);
+        EXPECT_NEAR(g.values.x, sObj, 1e-5f * std::max(1.0f, sObj)) << k;
+        EXPECT_NEAR(g.values.y, sScr, 1e-5f * std::max(1.0f, sScr)) << k;
+        EXPECT_EQ(int(g.values.z), rank) << k;
+        const float threshold = c.sizes.w * std::sqrt(float(rank));
+        const bool selected = screenSelected(sScr, c.sizes.w, rank, c.ints.z);
+        if (std::abs(sScr - threshold) > 1e-4f * threshold) {
+            EXPECT_EQ(g.values.w != 0.0f, selected) << k;
+            EXPECT_EQ(g.codes.x, penumbraSelectionCode(selected, k % 3 == 0)) << k;
+            ++selectedCompared;
+        }
+        EXPECT_EQ(g.codes.y != 0, selectionEvaluated(int(k % 7))) << k;
+        EXPECT_EQ(g.codes.z, blockClass(c.ints.w, 256)) << k;
+        EXPECT_EQ(g.codes.w, contourBlockMask(c.bits.x, c.bits.y, int(c.bits.w))) << k;
+        EXPECT_EQ(g.bits.x, contourBlockBits(c.bits.x, c.bits.y, int(c.bits.z))) << k;
+    }
+    EXPECT_GT(selectedCompared, 1000u);
 }
 
 class ScreenAdaptiveRender : public testing::GLTest {};
