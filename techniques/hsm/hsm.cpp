@@ -457,6 +457,40 @@ std::vector<InternalDesc> screenAdaptiveInternals() {
     return out;
 }
 
+CounterDesc screenSelectionCounter() {
+    CounterDesc c;
+    c.name = "screen_selection";
+    c.doc = "the screen-space selection (guennebaud2007 sec. 5.2, 6): penumbra pixels evaluated (selected by eq. 6, "
+            "forced by a discontinuity, with their whole block) and skipped (filled by pull-push), their evaluated "
+            "fraction, and the 16 x 16 blocks processed whole, compacted and skipped";
+    c.appliesWhen = kScreenAdaptive;
+    c.reads = {"selection", "pack.counts", "param:screen_adaptive"};
+    c.count = [](PassContext& ctx) {
+        const Image codes = readTexture(ctx.texture("selection"), 1);
+        size_t n[SEL_SKIPPED + 1] = {};
+        for (float v : codes.data) {
+            const int code = int(v);
+            if (code >= 0 && code <= SEL_SKIPPED) ++n[code];
+        }
+        std::vector<uint32_t> counts(kCountSlots);
+        glGetNamedBufferSubData(ctx.buffer("pack.counts"), 0, GLsizeiptr(counts.size() * 4), counts.data());
+        const size_t evaluated = n[SEL_SELECTED] + n[SEL_FORCED] + n[SEL_BLOCK];
+        const size_t penumbra = evaluated + n[SEL_SKIPPED];
+        return nlohmann::json{{"penumbra_pixels", penumbra},
+                              {"evaluated_pixels", evaluated},
+                              {"selected_pixels", n[SEL_SELECTED]},
+                              {"forced_pixels", n[SEL_FORCED]},
+                              {"block_pixels", n[SEL_BLOCK]},
+                              {"skipped_pixels", n[SEL_SKIPPED]},
+                              {"evaluated_fraction", penumbra ? double(evaluated) / double(penumbra) : 1.0},
+                              {"listed_pixels", counts[0]},
+                              {"blocks_whole", counts[4]},
+                              {"blocks_compacted", counts[8]},
+                              {"blocks_skipped", counts[9]}};
+    };
+    return c;
+}
+
 int bpLightShape(const Light& light) {
     return light.shape == LightShape::Square ? BP_LIGHT_SQUARE : BP_LIGHT_DISK;
 }

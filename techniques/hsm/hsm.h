@@ -41,6 +41,8 @@ std::vector<std::string> backprojectionVisibilityModifies();
 std::vector<PassDesc> screenSelectionPasses();
 PassDesc screenPullPushPass();
 std::vector<InternalDesc> screenAdaptiveInternals();
+// `--stats` counter "screen_selection": pixels evaluated and skipped, blocks by class.
+CounterDesc screenSelectionCounter();
 
 // The shared light-shape code of the shaders (BP_LIGHT_SQUARE, BP_LIGHT_DISK for disk and sphere)
 // and the unit of light coordinates (w_l / 2, or the radius).

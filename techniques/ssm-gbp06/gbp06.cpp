@@ -112,6 +112,7 @@ const TechniqueDesc& ssmGbp06Technique() {
         d.passes.push_back(visibility);
         d.passes.push_back(screenPullPushPass());
         d.kernelCaps = {backprojectionKernelCap()};
+        d.counters = {screenSelectionCounter()};
         d.internals = backprojectionInternals();
         d.internals.push_back(lightLevelsInternal());
         for (const InternalDesc& i : screenAdaptiveInternals()) d.internals.push_back(i);

@@ -278,6 +278,38 @@ TEST_F(ScreenAdaptiveRender, EvaluatedPixelsAreTheFullEvaluationAndTheRestIsFill
     }
 }
 
+// --stats reports the selection per light (counters.screen_selection), the same counts as the
+// selection internal and the pack pass; nothing for a technique or setting without it.
+TEST_F(ScreenAdaptiveRender, StatsCountTheEvaluatedPixels) {
+    const Scene scene = loadScene("square-occluder");
+    auto stats = [&](const char* technique, Sets sets, Image* codes) {
+        RenderOptions options;
+        options.width = options.height = 160;
+        options.technique = technique;
+        options.sets = std::move(sets);
+        options.lightSize = 2.0f;
+        Renderer renderer(scene, options);
+        renderer.renderFrame(0, {"visibility"});
+        if (const Resource* r = renderer.pool().find("L0/selection"); r && codes) *codes = readTexture(r->texture, 1);
+        return renderer.stats({}, 0)["lights"][0]["counters"];
+    };
+    Image codes;
+    const nlohmann::json c = stats("ssm-contour", {}, &codes);
+    ASSERT_TRUE(c.contains("screen_selection")) << c.dump();
+    const nlohmann::json& s = c["screen_selection"];
+    std::map<int, int> n;
+    for (float v : codes.data) ++n[int(v)];
+    EXPECT_EQ(s["skipped_pixels"].get<int>(), n[SEL_SKIPPED]);
+    EXPECT_EQ(s["evaluated_pixels"].get<int>(), n[SEL_SELECTED] + n[SEL_FORCED] + n[SEL_BLOCK]);
+    EXPECT_EQ(s["listed_pixels"].get<int>(), s["evaluated_pixels"].get<int>()) << "the list holds every evaluated pixel";
+    EXPECT_NEAR(s["evaluated_fraction"].get<double>(),
+                double(s["evaluated_pixels"].get<int>()) / double(s["penumbra_pixels"].get<int>()), 1e-12);
+    EXPECT_GT(s["skipped_pixels"].get<int>(), 0);
+    EXPECT_EQ(s["blocks_whole"].get<int>() + s["blocks_compacted"].get<int>() + s["blocks_skipped"].get<int>(), 100);
+    EXPECT_TRUE(stats("ssm-gbp06", {{"screen_adaptive", "false"}}, nullptr).empty());
+    EXPECT_TRUE(stats("pcss", {}, nullptr).empty());
+}
+
 // Fig. 8: without the discontinuity buffer, pull-push blends penumbrae across two surfaces; with
 // it, every pixel near a depth or normal discontinuity is computed. On depth-discontinuities (three
 // steps of 0.3 units under a light of size 2, s_min 4 so that the pattern skips at this size), the

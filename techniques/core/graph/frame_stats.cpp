@@ -117,6 +117,7 @@ nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFra
         for (const auto& [key, reason] : l.params.inapplicable(*l.desc)) inapplicable[key] = reason;
         if (!inapplicable.empty()) lj["parameters_not_applied"] = inapplicable;
         lj["kernel_caps"] = nlohmann::json::array();
+        lj["counters"] = nlohmann::json::object();
         j["lights"].push_back(lj);
     }
     for (const KernelCapReport& k : kernelCapReports()) {
@@ -128,6 +129,22 @@ nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFra
                                          {"clamped_pixels", k.count.clamped},
                                          {"clamped_fraction", k.fraction()},
                                          {"largest", k.count.largest}});
+        }
+    }
+    for (auto& lp : lights_) {
+        LightState& l = lp->state;
+        if (!l.light.castsShadows) continue;
+        for (const CounterDesc& c : l.desc->counters) {
+            if (!c.appliesWhen.empty() && !Condition(c.appliesWhen, *l.desc, l.desc->id + "." + c.name).holds(l.params))
+                continue;
+            bool ready = true;  // only once the passes that produce its resources have run
+            for (const std::string& r : c.reads)
+                if (!r.starts_with("param:") && r != "gbuffer" && r != "light" && !pool_.find(l.group + "/" + r)) ready = false;
+            if (!ready) continue;
+            std::set<std::string> declared(c.reads.begin(), c.reads.end());
+            PassContext ctx(frame_, &l, pool_, "counter " + c.name, declared);
+            for (auto& lj : j["lights"])
+                if (lj["index"] == l.index) lj["counters"][c.name] = c.count(ctx);
         }
     }
     j["resources"] = pool_.describe();

@@ -148,6 +148,19 @@ struct KernelCapDesc {
     std::function<KernelCapCount(PassContext&)> count;
 };
 
+// A count a technique reports after a frame, under `--stats` lights[i].counters[name] (an object of
+// numbers): what its passes did that no image shows at a glance, e.g. how many pixels the
+// screen-space selection of guennebaud2007 evaluated. `count` reads the resources in `reads` (after
+// the frame ran); a counter whose appliesWhen does not hold, or whose resources are not allocated,
+// is left out.
+struct CounterDesc {
+    std::string name;
+    std::string doc;
+    std::string appliesWhen;  // "" = always
+    std::vector<std::string> reads;
+    std::function<nlohmann::json(PassContext&)> count;
+};
+
 // ---- the descriptor -------------------------------------------------------------------------------
 struct TechniqueDesc {
     std::string id;
@@ -159,6 +172,7 @@ struct TechniqueDesc {
     std::vector<PassDesc> passes;  // in execution order; some pass writes "visibility" (R32F, frame size)
     std::vector<InternalDesc> internals;
     std::vector<KernelCapDesc> kernelCaps;  // the kernels it caps (empty: no capped kernel)
+    std::vector<CounterDesc> counters;      // what --stats reports per light besides times (empty: none)
     // A reactive rule (assarsson2004's load balancing): after a frame in which the light's passes
     // ran, taking `lightMs` (their times summed, that frame), a parameter change for the next frame
     // ({key, value}), or nothing. Renderer::renderFrame applies it (setParam, so what depends on the
