@@ -208,6 +208,7 @@ VtkOffscreen::~VtkOffscreen() {
         // Frees VTK's GL objects while our context is still current.
         impl_->window->Finalize();
         releaseFrame();
+        releaseRetired();
     }
     delete impl_;
 }
@@ -243,12 +244,20 @@ void VtkOffscreen::releaseFrame() {
     fbo_ = colorTexture_ = depthBuffer_ = 0;
 }
 
+void VtkOffscreen::releaseRetired() {
+    if (retiredTexture_) glDeleteTextures(1, &retiredTexture_);
+    retiredTexture_ = 0;
+}
+
 void VtkOffscreen::resize(int width, int height) {
     if (width == width_ && height == height_) return;
     if (width < 1 || height < 1 || width > 8192 || height > 8192)
         throw InputError("view size: expected 1..8192 pixels a side, got " + std::to_string(width) + "x" +
                          std::to_string(height));
     GLStateGuard keep;
+    releaseRetired();
+    retiredTexture_ = colorTexture_;  // drawn by a UI's draw list of this frame, perhaps
+    colorTexture_ = 0;
     releaseFrame();
     width_ = width;
     height_ = height;

@@ -60,7 +60,10 @@ public:
     // Makes a 2D context view (vtkChartXY ...) render into this window.
     void attach(vtkContextView* view);
 
+    // A new frame of that size. The old frame's texture() stays valid until releaseRetired() (or the
+    // next resize): a UI that recorded it in a draw list this frame may still draw it.
     void resize(int width, int height);
+    void releaseRetired();
     int width() const { return width_; }
     int height() const { return height_; }
 
@@ -85,6 +88,7 @@ private:
     struct Impl;
     Impl* impl_ = nullptr;
     unsigned int fbo_ = 0, colorTexture_ = 0, depthBuffer_ = 0;
+    unsigned int retiredTexture_ = 0;  // the colour texture before the last resize
 };
 
 }  // namespace shadowlab

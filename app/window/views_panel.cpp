@@ -40,6 +40,10 @@ void Window::syncViewList() {
                                            state_.openViews.end();
                                 }),
                  views_.end());
+    // A frame resized by updateViews after the last UI was built kept its old texture for that
+    // UI's draw list; it has been drawn.
+    for (const auto& v : views_)
+        if (v->frame) v->frame->releaseRetired();
     for (const std::string& name : state_.openViews)
         if (std::none_of(views_.begin(), views_.end(), [&](const auto& v) { return v->name == name; })) {
             auto v = std::make_unique<OpenView>();

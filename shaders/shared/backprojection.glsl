@@ -532,21 +532,11 @@ SHARED_FN float occluderDepthHint(vec4 depths, vec2 f, float zLimit, float zMin)
     vec4 w = vec4((1.0f - f.x) * (1.0f - f.y), f.x * (1.0f - f.y), f.x * f.y, (1.0f - f.x) * f.y);
     float sw = 0.0f;
     float sz = 0.0f;
-    if (depths.x < zLimit) {
-        sw += w.x;
-        sz += w.x * depths.x;
-    }
-    if (depths.y < zLimit) {
-        sw += w.y;
-        sz += w.y * depths.y;
-    }
-    if (depths.z < zLimit) {
-        sw += w.z;
-        sz += w.z * depths.z;
-    }
-    if (depths.w < zLimit) {
-        sw += w.w;
-        sz += w.w * depths.w;
+    for (int k = 0; k < 4; ++k) {
+        if (depths[k] < zLimit) {
+            sw += w[k];
+            sz += w[k] * depths[k];
+        }
     }
     float z = sw > 0.0f ? sz / sw : zMin;
     return max(z, zMin);

@@ -415,17 +415,7 @@ PassDesc screenPullPushPass() {
             "computed pixels kept, skipped ones filled from coarser weighted means";
     p.reads = {"visibility_sparse", "param:screen_adaptive"};
     p.modifies = {"visibility"};
-    ResourceDesc pull = ResourceDesc::texture(
-        "pull_push.pull", Format::RG32F, SizeRule::frame(2),
-        "pull-push levels 1, 2, ... down to 1x1 (level 0 is visibility_sparse): (v, w) = weighted mean visibility and "
-        "min(1, sum of the weights) over the pixels each texel covers");
-    pull.kind = ResourceKind::Pyramid;
-    pull.levels = 0;
-    pull.appliesWhen = kScreenAdaptive;
-    ResourceDesc push = pull;
-    push.name = "pull_push.push";
-    push.doc = "pull-push levels 1, 2, ... after the push: (completed visibility, the pull weight of that level)";
-    p.creates = {pull, push};
+    p.creates = pullPushPyramids("visibility_sparse", kScreenAdaptive);
     p.soft = true;
     p.wholeFrame = true;
     p.create = [] { return std::make_unique<ScreenPullPushPass>(); };

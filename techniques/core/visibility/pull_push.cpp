@@ -143,12 +143,7 @@ private:
 
 }  // namespace
 
-PassDesc pullPushPass(const std::string& input, const std::string& output, const std::string& appliesWhen) {
-    PassDesc p;
-    p.name = "pull_push";
-    p.doc = "pull-push reconstruction of the sparse visibility buffer '" + input +
-            "' (guennebaud2007 sec. 5.2, Gortler et al. 1996): pull to 1x1 by weighted means, push back by bilinear blending";
-    p.reads = {input};
+std::vector<ResourceDesc> pullPushPyramids(const std::string& input, const std::string& appliesWhen) {
     ResourceDesc pull = ResourceDesc::texture(
         "pull_push.pull", Format::RG32F, SizeRule::frame(2),
         "pull-push levels 1, 2, ... down to 1x1 (level 0 is '" + input +
@@ -159,11 +154,21 @@ PassDesc pullPushPass(const std::string& input, const std::string& output, const
     ResourceDesc push = pull;
     push.name = "pull_push.push";
     push.doc = "pull-push levels 1, 2, ... after the push: (completed visibility, the pull weight of that level)";
+    return {pull, push};
+}
+
+PassDesc pullPushPass(const std::string& input, const std::string& output, const std::string& appliesWhen) {
+    PassDesc p;
+    p.name = "pull_push";
+    p.doc = "pull-push reconstruction of the sparse visibility buffer '" + input +
+            "' (guennebaud2007 sec. 5.2, Gortler et al. 1996): pull to 1x1 by weighted means, push back by bilinear blending";
+    p.reads = {input};
     ResourceDesc out = ResourceDesc::texture(output, Format::R32F, SizeRule::frame(),
                                              "visibility reconstructed by pull-push from '" + input +
                                                  "': computed pixels (w = 1) unchanged, gaps filled");
     out.appliesWhen = appliesWhen;
-    p.creates = {pull, push, out};
+    p.creates = pullPushPyramids(input, appliesWhen);
+    p.creates.push_back(out);
     p.state = PipelineState::fullscreen();
     p.soft = true;
     // Every pixel depends on the whole frame (the 1x1 level), and compute dispatches ignore the

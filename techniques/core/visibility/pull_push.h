@@ -34,6 +34,10 @@ public:
 // carries `appliesWhen` (a condition on the technique's parameters; "" = always). A soft pass, like
 // the rest of a back-projection technique's, and a wholeFrame one (never run in bands).
 PassDesc pullPushPass(const std::string& input, const std::string& output, const std::string& appliesWhen);
+// The two pyramids' declarations, "pull_push.pull" and "pull_push.push" (frame(2), the full mip
+// chain), for a pass that reconstructs `input` and writes its output its own way (pullPushPass
+// creates it; the back-projection techniques' pull_push pass modifies their "visibility").
+std::vector<ResourceDesc> pullPushPyramids(const std::string& input, const std::string& appliesWhen);
 // The two pyramids as Pyramid internals with channels {"visibility", "weight"}: "pull_push.pull"
 // and "pull_push.push" (file level m is pull-push level m + 1).
 std::vector<InternalDesc> pullPushInternals(const std::string& appliesWhen = "");
