@@ -12,6 +12,7 @@ const TechniqueDesc& ssmContourTechnique();
 const TechniqueDesc& referenceTechnique();
 const TechniqueDesc& raytracedTechnique();
 const TechniqueDesc& ssvTechnique();
+const TechniqueDesc& spsmTechnique();
 
 const std::vector<const TechniqueDesc*>& allTechniques() {
     static const std::vector<const TechniqueDesc*> all = {
@@ -22,6 +23,7 @@ const std::vector<const TechniqueDesc*>& allTechniques() {
         &ssmGbp06Technique(),
         &ssmContourTechnique(),
         &ssvTechnique(),
+        &spsmTechnique(),
         &referenceTechnique(),
         &raytracedTechnique(),
     };

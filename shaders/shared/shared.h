@@ -19,6 +19,7 @@ using uint = std::uint32_t;
 #include "shared/screen_selection.glsl"
 #include "shared/shadow_projection.glsl"
 #include "shared/soft_shadow_volumes.glsl"
+#include "shared/spsm.glsl"
 #include "shared/square_occluder.glsl"
 #include "shared/tangent_plane.glsl"
 #undef SHARED_FN

@@ -145,7 +145,7 @@ class RefineFrameTest : public GLTest {};
 // different order could differ in the last bits; nothing here sums across pixels).
 TEST_F(RefineFrameTest, EqualsTheFrameRunWholeForEveryTechnique) {
     Scene scene = loadScene("plant");
-    for (const char* technique : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "ssv"}) {
+    for (const char* technique : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "ssv", "spsm"}) {
         SCOPED_TRACE(technique);
         RenderOptions options;
         options.width = 96;

@@ -67,7 +67,7 @@ TEST_F(HardCaseTangent, TangentPlaneCutsTheLightOrHidesIt) {
         double wallA;
     };
     for (Expect e : {Expect{"reference", 0.75}, Expect{"raytraced", 0.75}, Expect{"pcss", 0.75}, Expect{"sssm", 0.75},
-                     Expect{"ssm-gbp06", 0.75}, Expect{"ssm-contour", 0.75}, Expect{"ssv", 0.75}, Expect{"hard", 1.0},
+                     Expect{"ssm-gbp06", 0.75}, Expect{"ssm-contour", 0.75}, Expect{"ssv", 0.75}, Expect{"hard", 1.0}, Expect{"spsm", 1.0},
                      Expect{"pcf", 1.0}}) {
         SCOPED_TRACE(e.technique);
         const Render r = render(scene, e.technique, {}, {}, 64);
@@ -135,7 +135,7 @@ TEST_F(HardCaseTangent, SphereTerminator) {
                 bandDiff / double(band), band);
     EXPECT_LT(bandDiff / double(band), 0.02);
     EXPECT_GT(worstCos, std::cos(glm::radians(5.4f))) << "a facet normal further from the sphere's than half a facet";
-    for (const char* t : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "ssv", "reference", "raytraced"}) {
+    for (const char* t : {"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "ssv", "spsm", "reference", "raytraced"}) {
         SCOPED_TRACE(t);
         const Render r = std::string(t) == "reference" ? ref : std::string(t) == "raytraced" ? ray : render(scene, t, {}, {}, 64);
         expectInvariants(r, t);
