@@ -79,7 +79,8 @@ void run(const std::string& sceneName, std::vector<Config>& configs, int size, i
         }
     std::printf("\n%s, %dx%d, point light; misclassified against raytraced rays=1 (%s)\n", sceneName.c_str(), size, size,
                 "pixels whose v > 0.5 differs");
-    std::printf("  %-34s %10s %8s %22s %9s\n", "setting", "misclass.", "of hard", "shadow_ms med [lo, hi]", "x hard");
+    std::printf("  %-34s %10s %8s %22s %9s  %s\n", "setting", "misclass.", "of hard", "shadow_ms med [lo, hi]", "x hard",
+                "passes (median ms)");
     const Config* hard = nullptr;
     for (Config& c : configs) {
         c.shadowMs = bench::spreadOf(c.rounds);
@@ -94,6 +95,15 @@ void run(const std::string& sceneName, std::vector<Config>& configs, int size, i
                     base ? double(c.misclassified) / double(std::max<size_t>(base->misclassified, 1)) : 0.0,
                     c.shadowMs.median, c.shadowMs.lowest, c.shadowMs.highest,
                     base ? c.shadowMs.median / base->shadowMs.median : 0.0);
+        nlohmann::json stats = c.renderer->stats({}, 1, 1);
+        std::string passes;
+        for (const auto& p : stats["passes"])
+            if (p["cost"] == "shadow" && p["runs"].get<int>() > 0) {
+                char buf[96];
+                std::snprintf(buf, sizeof buf, " %s %.2f", p["name"].get<std::string>().c_str(), p["median_ms"].get<double>());
+                passes += buf;
+            }
+        std::printf("      %s\n", passes.c_str());
     }
     configs.clear();
 }

@@ -114,7 +114,9 @@ void main() {
             return;
         }
     }
-    visibility = ((occluding >> 4u) & 1u) != 0u ? 0.0 : 1.0;
+    // Fallback: the depth comparison with p's own texel; without reconstruction (Dai et al. 2008)
+    // a ray that met no stored triangle is lit (their false negatives where triangles were lost).
+    visibility = reconstruction == 1 && ((occluding >> 4u) & 1u) != 0u ? 0.0 : 1.0;
     branch = SPSM_BRANCH_FALLBACK;
 #endif
 }

