@@ -185,6 +185,18 @@ SHARED_FN bool spsmInside(SpsmTriangle t, vec2 x) {
            s * spsmEdgeFunction(t.c, t.a, x) >= -tol * length(t.a - t.c);
 }
 
+// How the build ranks the triangles touching a texel (its depth test): 1/z of the triangle's
+// plane at the texel centre, exact where the triangle covers the centre; extrapolated where it
+// does not, and then made farther by SPSM_RANK_MARGIN of the depth, so that such a triangle takes
+// the texel from the one covering the centre only when it is nearer there by more than 2% (a
+// silhouette's steep sliver, not a smooth surface's neighbouring facet).
+
+#define SPSM_RANK_MARGIN 0.02f
+SHARED_FN float spsmRankInverseDepth(SpsmTriangle t, vec2 centre) {
+    float w = spsmInverseDepthAt(t, centre);
+    return spsmInside(t, centre) ? w : w * (1.0f - SPSM_RANK_MARGIN);
+}
+
 // The vertex of triangle t with index i (0, 1, 2).
 SHARED_FN vec2 spsmVertex(SpsmTriangle t, int i) {
     return i == 0 ? t.a : (i == 1 ? t.b : t.c);

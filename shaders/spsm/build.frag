@@ -1,11 +1,12 @@
-// spsm build: writes the packed triangle, with as its depth the triangle's plane at the texel's
-// centre, extrapolated where the triangle does not cover the centre (1/z is affine, so that is
-// exact for the plane): the depth test keeps, per texel, the triangle whose plane is nearest at the
-// centre among those touching the texel. For a triangle that covers the centre this is the usual
-// depth test; for one that only touches the texel it ranks the triangle by where its plane would
-// be, so a steep triangle at an occluder's silhouette (whose nearest point is where it joins the
-// face-on triangles) keeps the texels it extends into instead of losing them to its neighbours
-// (techniques/spsm/README.md, "which triangle a texel keeps", measures both rules). With
+// spsm build: writes the packed triangle, with as its depth its rank (spsmRankInverseDepth): the
+// triangle's plane at the texel's centre, extrapolated where the triangle does not cover the centre
+// and then moved back by SPSM_RANK_MARGIN of the depth. For a triangle that covers the centre this
+// is the usual depth test; one that only touches the texel takes it when its plane there is nearer
+// by more than the margin, so a steep triangle at an occluder's silhouette (whose nearest point is
+// where it joins the face-on triangles) keeps texels along the silhouette instead of losing them
+// all, while the neighbouring facets of a smooth surface (nearer only by their small sagitta) do not
+// take a texel from the facet that covers it (techniques/spsm/README.md, "which triangle a texel
+// keeps", measures the rules). With
 // conservative rasterization (CONSERVATIVE, or the driver's) a fragment whose texel the triangle
 // does not touch (spsmTouchesTexel: the separating-axis test) is dropped;
 // without it, the fragments are the rasterizer's centre samples.
@@ -13,6 +14,9 @@
 flat in uvec4 packedTriangle;
 uniform float smSize;
 uniform float nearZ;
+#ifndef MARGIN
+#define MARGIN 0.05
+#endif
 layout(location = 0) out uvec4 stored;
 
 void main() {
@@ -20,7 +24,7 @@ void main() {
 #if defined(CONSERVATIVE) || defined(HARDWARE_CONSERVATIVE)
     if (!spsmTouchesTexel(t, floor(gl_FragCoord.xy))) discard;
 #endif
-    float w = spsmInverseDepthAt(t, floor(gl_FragCoord.xy) + 0.5);
+    float w = spsmRankInverseDepth(t, floor(gl_FragCoord.xy) + 0.5);
     // Reversed depth: nearZ / z, 1 at the near plane (the depth test keeps the greatest); a plane
     // that passes behind the light at the centre ranks last.
     gl_FragDepth = w > 0.0 ? clamp(nearZ * w, 1e-30, 1.0) : 1e-30;

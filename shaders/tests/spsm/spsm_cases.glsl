@@ -9,7 +9,7 @@ struct SpsmCaseOut {
     uvec4 code;     // spsmPack
     vec4 a;         // unpacked vertices a.xy, b.xy
     vec4 b;         // c.xy, w at a, w at c
-    vec4 c;         // depth at p, 1/z at p, touches p's texel, touches another texel
+    vec4 c;         // depth at p, 1/z at p, touches p's texel, the build's rank at another texel centre
     vec4 d;         // inside, triangle test, occludes by depth, edge function
     vec4 e;         // edge normal of the 3x3 pattern (xy), reconstruction decided, shadowed
     vec4 f;         // reconstruction d_edge, d_p, kept vertices, first-vertex hidden
@@ -44,7 +44,7 @@ SHARED_FN SpsmCaseOut spsmCase(int x, int y) {
     vec2 p = vec2(4.0f + 0.21f * float(x), 3.0f + 0.23f * float(y));
     float z = 1.0f + 0.05f * float(x);
     o.c = vec4(spsmDepthAt(u, p), spsmInverseDepthAt(u, p), spsmTouchesTexel(u, floor(p)) ? 1.0f : 0.0f,
-               spsmTouchesTexel(u, floor(p) + vec2(2.0f, -1.0f)) ? 1.0f : 0.0f);
+               spsmRankInverseDepth(u, floor(p) + vec2(2.5f, -0.5f)));
     o.d = vec4(spsmInside(u, p) ? 1.0f : 0.0f, float(spsmTriangleTest(u, p, z, 0.01f)),
                spsmOccludesByDepth(u, p, z, 0.01f) ? 1.0f : 0.0f, spsmEdgeFunction(u.a, u.b, p));
     // A 3x3 neighbourhood around texel (8, 8): an occluder bounded by the line through `origin`
