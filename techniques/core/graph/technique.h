@@ -149,7 +149,7 @@ struct KernelCapDesc {
 };
 
 // A count a technique reports after a frame, under `--stats` lights[i].counters[name] (an object of
-// numbers): what its passes did that no image shows at a glance, e.g. how many pixels the
+// numbers, and strings naming what ran, e.g. spsm's "rasterization"): what its passes did that no image shows at a glance, e.g. how many pixels the
 // screen-space selection of guennebaud2007 evaluated. `count` reads the resources in `reads` (after
 // the frame ran); a counter whose appliesWhen does not hold, or whose resources are not allocated,
 // is left out.
