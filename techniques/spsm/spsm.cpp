@@ -4,12 +4,10 @@
 // reconstructs the shadow edge where none covers it. techniques/spsm/README.md has the design.
 #include "spsm/spsm.h"
 
-#include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <map>
 
-#include "hard/hard.h"
 #include "visibility/shadow_map.h"
 
 namespace shadowlab {
