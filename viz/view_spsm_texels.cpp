@@ -4,7 +4,8 @@
 //    texels around the receiver's texel (grid lines; k = 3 as the paper, larger when the look-up's
 //    neighbourhood tested more), the stored triangles of the texels the look-up intersected (the
 //    record's `tested`; a triangle stored in several texels is one triangle: each distinct one is
-//    one colour, outline and translucent fill), the projected point p (the paper's "p in light
+//    one colour, outline and translucent fill, and a square of that colour in the corner of each
+//    texel storing it), the projected point p (the paper's "p in light
 //    space", magenta +), and when the look-up reached the reconstruction (the paper's Fig. 1 right
 //    and Fig. 2): the 3x3 depth comparisons (white squares: neighbours in front of p, hollow: not),
 //    the approximate tangent (cyan, the line through the texel centre along the edge's tangent)
@@ -325,7 +326,7 @@ void build(ViewContext& ctx, ViewResult& result) {
     caption += "left, SPSM space (texels): the " + std::to_string(k) + "x" + std::to_string(k) + " texels around p's; " +
                std::to_string(tested.size()) + " texels tested (" + std::to_string(hits) + " hit, " +
                std::to_string(covers) + " cover p behind it, " + std::to_string(misses) + " miss) storing " +
-               std::to_string(triangles.size()) + " distinct triangles (one colour each); p magenta +\n";
+               std::to_string(triangles.size()) + " distinct triangles (one colour each, its square in each texel storing it); p magenta +\n";
     if (hasEdge)
         caption += "reconstruction: white squares " + std::to_string(inFront.size()) + " of the 3x3 in front of p; tangent cyan; edge yellow (" +
                    std::to_string(edge.value("kept_vertices", 0)) + " vertices kept): d_p " +
@@ -419,6 +420,12 @@ void build(ViewContext& ctx, ViewResult& result) {
     }
     left3->AddActor(lineActor(grid, glm::vec3(0.62f), 1.0f));
     for (size_t i = 0; i < triangles.size(); ++i) left3->AddActor(lineActor(outlines[i], kTriangleRgb[i % kTriangleColours], 2.0f));
+    // Which triangle each tested texel stores: a square of its colour in the texel's lower-left corner.
+    for (size_t i = 0; i < triangles.size(); ++i) {
+        std::vector<glm::vec2> corners;
+        for (const glm::ivec2 q : triangles[i].texels) corners.push_back(glm::vec2(q) + 0.14f);
+        left3->AddActor(filledSquares(corners, 0.09f, 0.04f, kTriangleRgb[i % kTriangleColours]));
+    }
     if (!inFront.empty()) left3->AddActor(filledSquares(inFront, 0.07f, 0.04f, glm::vec3(0.95f)));
     if (!hollow.empty()) left3->AddActor(lineActor(hollow, glm::vec3(0.95f), 1.5f));
     if (hasEdge) {
