@@ -320,24 +320,25 @@ void build(ViewContext& ctx, ViewResult& result) {
 
     // ---- the caption: what is drawn, with its counts
     const float vis = rec.value("visibility", NAN), cpu = rec.value("cpu_visibility", NAN);
-    std::string caption = "spsm-texels  " + where + ": p = (" + formatNumber(p.x, 6) + ", " + formatNumber(p.y, 6) +
-                          ") in texel (" + std::to_string(texel.x) + ", " + std::to_string(texel.y) + "); decided by " +
-                          branch + ", visibility " + formatNumber(vis, 3) + " (CPU look-up " + formatNumber(cpu, 3) + ")\n";
-    caption += "left, SPSM space (texels): the " + std::to_string(k) + "x" + std::to_string(k) + " texels around p's; " +
-               std::to_string(tested.size()) + " texels tested (" + std::to_string(hits) + " hit, " +
-               std::to_string(covers) + " cover p behind it, " + std::to_string(misses) + " miss) storing " +
-               std::to_string(triangles.size()) + " distinct triangles (one colour each, its square in each texel storing it); p magenta +\n";
+    // Short lines: in the window's cells the caption must leave the panels room.
+    std::string caption = "spsm-texels  " + where + ": p (" + formatNumber(p.x, 6) + ", " + formatNumber(p.y, 6) +
+                          ") in texel (" + std::to_string(texel.x) + ", " + std::to_string(texel.y) + "), decided by " +
+                          branch + ": visibility " + formatNumber(vis, 3) + " (CPU " + formatNumber(cpu, 3) + ")\n";
+    caption += "left, SPSM texels: " + std::to_string(k) + "x" + std::to_string(k) + " around p's; " +
+               std::to_string(tested.size()) + " tested (" + std::to_string(hits) + " hit, " + std::to_string(covers) +
+               " cover, " + std::to_string(misses) + " miss), " + std::to_string(triangles.size()) +
+               " distinct triangles (corner squares: which texel stores which); p magenta\n";
     if (hasEdge)
-        caption += "reconstruction: white squares " + std::to_string(inFront.size()) + " of the 3x3 in front of p; tangent cyan; edge yellow (" +
+        caption += "white: " + std::to_string(inFront.size()) + " of the 3x3 in front of p; tangent cyan; edge yellow (" +
                    std::to_string(edge.value("kept_vertices", 0)) + " vertices kept): d_p " +
-                   formatNumber(edge.value("d_p", 0.0), 3) + " vs d_edge " + formatNumber(edge.value("d_edge", 0.0), 3) +
-                   ", p " + (edge.value("shadowed", false) ? "shadowed" : "lit") + "\n";
+                   formatNumber(edge.value("d_p", 0.0), 3) + ", d_edge " + formatNumber(edge.value("d_edge", 0.0), 3) +
+                   ": " + (edge.value("shadowed", false) ? "shadowed" : "lit") + "\n";
     else if (compared)
-        caption += "white squares: " + std::to_string(inFront.size()) + " of the 3x3 in front of p; no edge reconstructed (" + branch + ")\n";
+        caption += "white: " + std::to_string(inFront.size()) + " of the 3x3 in front of p; no edge (" + branch + ")\n";
     else
         caption += "no reconstruction: " + branch + " decided first\n";
     caption += "right: the step that decided each of the " + std::to_string(branches.width) + "x" +
-               std::to_string(branches.height) + " pixels (legend: pixel counts; white square: the pick)";
+               std::to_string(branches.height) + " pixels, counted in the legend; white square: the pick";
 
     // ---- layout: [texels | branch map | legend] over the caption strip
     std::vector<LegendEntry> entries;
@@ -345,22 +346,50 @@ void build(ViewContext& ctx, ViewResult& result) {
     for (int b = 0; b < kBranches; ++b) {
         const BranchClass& c = branchClasses()[size_t(b)];
         entries.push_back({c.rgb, std::string(c.name) + ": " + std::to_string(counts[size_t(b)])});
-        legend.push_back({{"branch", b}, {"name", c.name}, {"count", counts[size_t(b)]}, {"rgb", {c.rgb.r, c.rgb.g, c.rgb.b}}});
+        legend.push_back({{"branch", b}, {"name", c.name}, {"count", counts[size_t(b)]}, {"rgb", {c.rgb.r, c.rgb.g, c.rgb.b}}});  // "drawn" below
         countsJ[c.name] = counts[size_t(b)];
     }
     const int W = ctx.out.width(), H = ctx.out.height();
-    const std::string legendTitle = "pixels per step";
-    const int legendW = std::min(int(0.42 * W), legendWidthPx(legendTitle, entries, H));
+    // A short picture (the window's cells, which print the whole caption under it) draws the
+    // caption's counts on one line, so that the panels keep their room.
+    const std::string shortCaption = "texel (" + std::to_string(texel.x) + ", " + std::to_string(texel.y) + "): " + branch +
+                                     ", " + std::to_string(tested.size()) + " tested, " + std::to_string(triangles.size()) +
+                                     " triangles" + (hasEdge ? ", edge yellow" : "");
+    auto shown = [&](const std::string& full) { return H < 320 ? shortCaption : full; };
+    // The legend in one column, or two when one is taller than the panels (the window's short cells).
+    auto panelHeightPx = [&](const std::string& text) {
+        auto probe = captionActor(shown(text), H);
+        const int margin = std::max(6, textPx(H) / 3);
+        int w = 0, h = 0;
+        textExtent(probe->GetTextProperty(), wrapText(probe->GetTextProperty(), shown(text), W - 2 * margin), w, h);
+        return H - std::min(0.9 * H, double(h + 2 * margin));
+    };
+    const double panelPx = panelHeightPx(caption + "; shown at 99.9%, counts of every pixel");
+    // Every step when they fit in one column; in a short picture only the steps that decided some
+    // pixel (the others are nowhere in the map), in two columns if one is still too tall.
+    std::vector<LegendEntry> drawnEntries = entries;
+    if (legendHeightPx("", entries, H, legendWidthPx("", entries, H)) > panelPx) {
+        drawnEntries.clear();
+        for (int b = 0; b < kBranches; ++b)
+            if (counts[size_t(b)] > 0) drawnEntries.push_back(entries[size_t(b)]);
+    }
+    const size_t half = (drawnEntries.size() + 1) / 2;
+    const std::vector<LegendEntry> firstHalf(drawnEntries.begin(), drawnEntries.begin() + std::ptrdiff_t(half)),
+        secondHalf(drawnEntries.begin() + std::ptrdiff_t(half), drawnEntries.end());
+    const int oneColumnW = legendWidthPx("", drawnEntries, H);
+    const int twoColumnW = legendWidthPx("", firstHalf, H) + legendWidthPx("", secondHalf, H);
+    const bool twoColumns = legendHeightPx("", drawnEntries, H, oneColumnW) > panelPx;
+    const int legendW = std::min(int(0.55 * W), twoColumns ? twoColumnW : oneColumnW);
     const double legendShare = double(legendW) / W;
     const double frameAspect = double(branches.width) / std::max(1, branches.height);
     const double texShare = (1.0 - legendShare) * std::clamp(1.0 / (1.0 + frameAspect), 0.4, 0.6);
 
     // The branch map's magnification (picture pixels per frame pixel): under 1 not every pixel is drawn.
     auto stripShare = [&](const std::string& text) {
-        auto probe = captionActor(text, H);
+        auto probe = captionActor(shown(text), H);
         const int margin = std::max(6, textPx(H) / 3);
         int w = 0, h = 0;
-        textExtent(probe->GetTextProperty(), wrapText(probe->GetTextProperty(), text, W - 2 * margin), w, h);
+        textExtent(probe->GetTextProperty(), wrapText(probe->GetTextProperty(), shown(text), W - 2 * margin), w, h);
         return std::min(0.9, double(h + 2 * margin) / H);
     };
     auto titleShareOf = [&](double strip) { return std::min(0.4, 1.6 * textPx(H) / ((1.0 - strip) * H)); };
@@ -369,11 +398,11 @@ void build(ViewContext& ctx, ViewResult& result) {
         const double fitted = 0.5 * std::max<double>(branches.height, branches.width / (w / (h * (1.0 - t)))) * 1.08;
         return h / (2.0 * fitted / (1.0 - t));
     };
-    const std::string note = "; shown at " + formatNumber(100.0 * magnification(stripShare(caption + "; shown at 99.9%: not every pixel is drawn, the counts are of every pixel")), 3) +
-                             "%: not every pixel is drawn, the counts are of every pixel";
+    const std::string note = "; shown at " + formatNumber(100.0 * magnification(stripShare(caption + "; shown at 99.9%, counts of every pixel")), 3) +
+                             "%, counts of every pixel";
     if (magnification(stripShare(caption)) < 1.0) caption += note;
     result.caption = caption;
-    const double strip = addCaptionStrip(ctx.out, caption);
+    const double strip = addCaptionStrip(ctx.out, shown(caption));
     const double titleShare = titleShareOf(strip);
     const double panelH = (1.0 - strip) * H;
 
@@ -459,13 +488,25 @@ void build(ViewContext& ctx, ViewResult& result) {
         square(ring, at, std::max(2.5f, 0.025f * float(std::max(branches.width, branches.height))), 0.1f);
         map->AddActor(lineActor(ring, glm::vec3(1.0f), 2.0f));
     }
-    map->AddActor2D(titleActor("look-up step per pixel", H));
+    map->AddActor2D(titleActor("look-up step per pixel (legend: pixels)", H));
 
     // Right: the legend.
-    vtkRenderer* side = ctx.out.addRenderer();
-    side->SetViewport(1.0 - legendShare, strip, 1.0, 1.0);
-    side->SetBackground(0.12, 0.12, 0.14);
-    addLegend(side, legendTitle, entries, H);
+    if (twoColumns) {
+        const double split = 1.0 - legendShare + legendShare * double(legendWidthPx("", firstHalf, H)) / twoColumnW;
+        vtkRenderer* first = ctx.out.addRenderer();
+        first->SetViewport(1.0 - legendShare, strip, split, 1.0);
+        first->SetBackground(0.12, 0.12, 0.14);
+        addLegend(first, "", firstHalf, H);
+        vtkRenderer* second = ctx.out.addRenderer();
+        second->SetViewport(split, strip, 1.0, 1.0);
+        second->SetBackground(0.12, 0.12, 0.14);
+        addLegend(second, "", secondHalf, H);
+    } else {
+        vtkRenderer* side = ctx.out.addRenderer();
+        side->SetViewport(1.0 - legendShare, strip, 1.0, 1.0);
+        side->SetBackground(0.12, 0.12, 0.14);
+        addLegend(side, "", drawnEntries, H);
+    }
 
     nlohmann::json trianglesJ = nlohmann::json::array();
     for (const StoredTriangle& t : triangles) {
@@ -490,6 +531,7 @@ void build(ViewContext& ctx, ViewResult& result) {
                    {"edge", edge},
                    {"counts", countsJ},
                    {"legend", legend},
+                   {"legend_drawn", drawnEntries.size()},
                    {"magnification", magnification(strip)}};
     if (!ctx.request.exportPath.empty()) writePolyData(exported, ctx.exportTarget(ctx.request.exportPath));
 }
