@@ -158,7 +158,7 @@ TEST(LessonState, AnswerStateIsTheStepStatePlusTheAnswer) {
 }
 
 TEST(LessonState, BothLessonsLoadWithTasks) {
-    for (const std::string& id : {"intro", "shadow-mapping", "pcss-sssm", "backprojection", "soft-shadow-volumes"}) {
+    for (const std::string& id : {"intro", "shadow-mapping", "pcss-sssm", "backprojection", "soft-shadow-volumes", "sub-pixel-shadow-maps"}) {
         Lesson l = loadLesson(id);
         EXPECT_EQ(l.file, "lessons/" + id + ".md");
         EXPECT_GE(l.steps.size(), 6u) << id;
@@ -714,9 +714,10 @@ TEST(LessonHeadless, PcssSssmRendersEveryStepWithTasksCheckedBothWays) { renderH
 TEST(LessonHeadless, BackprojectionRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("backprojection"); }
 TEST(LessonHeadless, SoftShadowVolumesRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("soft-shadow-volumes"); }
 TEST(LessonHeadless, AdaptivePrecisionRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("adaptive-precision"); }
+TEST(LessonHeadless, SubPixelShadowMapsRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("sub-pixel-shadow-maps"); }
 TEST(LessonHeadless, EveryLessonHasAHeadlessTest) {
     EXPECT_EQ(listLessons(),
-              (std::vector<std::string>{"adaptive-precision", "backprojection", "intro", "pcss-sssm", "shadow-mapping", "soft-shadow-volumes"}))
+              (std::vector<std::string>{"adaptive-precision", "backprojection", "intro", "pcss-sssm", "shadow-mapping", "soft-shadow-volumes", "sub-pixel-shadow-maps"}))
         << "a new lesson needs its own LessonHeadless test above";
 }
 
@@ -810,6 +811,7 @@ TEST(LessonCheck, PcssSssmAt320And1024) { checkAtTwoSizes("pcss-sssm"); }
 TEST(LessonCheck, BackprojectionAt320And1024) { checkAtTwoSizes("backprojection"); }
 TEST(LessonCheck, SoftShadowVolumesAt320And1024) { checkAtTwoSizes("soft-shadow-volumes"); }
 TEST(LessonCheck, AdaptivePrecisionAt320And1024) { checkAtTwoSizes("adaptive-precision"); }
+TEST(LessonCheck, SubPixelShadowMapsAt320And1024) { checkAtTwoSizes("sub-pixel-shadow-maps"); }
 TEST(LessonCheck, SizesAreForCheckAndTrailingSlashIsAFolder) {
     EXPECT_EQ(test::run("lesson intro --sizes 320x320").code, 2);
     EXPECT_EQ(test::run("lesson intro --check --sizes 320x").code, 2);

@@ -1,4 +1,4 @@
-// The `kernel-size` and `reuse` views (viz/view_kernel_size.cpp, viz/view_reuse.cpp) on pcss and
+// The `kernel-size` and `reuse` views (viz/view_kernel_reuse.cpp) on pcss and
 // sssm: their numbers are those of the techniques' own resources (pcss_blockers' kernel channel,
 // sssm's kernel_size and reuse_step2/3, read back here from the renderer's pool and averaged the
 // way each view's caption says), and techniques without the data are refused.

@@ -1,10 +1,19 @@
+// The sssm/pcss heat-map views, in one file (viz/ holds at most 20 sources, scripts/check_layout.cmake):
+// `kernel-size` and `reuse`.
+//
 // `kernel-size`: the filter kernel each pixel used, as a heat map with a colour bar, for every
 // technique that exposes one: an image internal with a channel named `kernel_size` or `kernel_*`
 // (pcss: `blockers.kernel_size`, texels of the shadow map; sssm: `kernel_size.kernel_x/kernel_y`,
 // screen pixels). Background pixels show grey. The caption gives the mean and largest kernel over
 // the pixels that filtered (kernel > 1).
+//
+// `reuse`: sssm's reuse maps (buades2015 Fig. 10: black = no reuse, white = every row reused) over
+// the image, one panel per map (step 2: blocker rows within alpha; step 3: blur rows within beta),
+// with the share of rows reused over the pixels where the step ran (-1 in the map: it did not run;
+// shown in blue-grey).
 #include <vtkActor.h>
 #include <vtkImageData.h>
+#include <vtkLookupTable.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +24,7 @@
 namespace shadowlab {
 
 namespace {
+namespace kernel_size {
 
 bool isKernelChannel(const std::string& c) { return c == "kernel_size" || c.rfind("kernel_", 0) == 0; }
 
@@ -87,9 +97,11 @@ void build(ViewContext& ctx, ViewResult& result) {
     if (!ctx.request.exportPath.empty()) writeImageData(image, ctx.exportTarget(ctx.request.exportPath));
 }
 
+}  // namespace kernel_size
 }  // namespace
 
 const ViewDesc& kernelSizeView() {
+    using namespace kernel_size;
     static const ViewDesc desc = [] {
         ViewDesc d;
         d.info.name = "kernel-size";
@@ -101,8 +113,89 @@ const ViewDesc& kernelSizeView() {
         d.info.doc = "the filter kernel (penumbra size) each pixel used, as a heat map with a colour bar; background grey";
         d.info.appliesTo = "techniques with a kernel-size internal channel (pcss, sssm)";
         d.info.exportExtension = ".vti";
-        d.refusal = refusal;
-        d.build = build;
+        d.refusal = kernel_size::refusal;
+        d.build = kernel_size::build;
+        return d;
+    }();
+    return desc;
+}
+
+
+// ---- reuse ------------------------------------------------------------------------------------------
+
+namespace {
+namespace reuse {
+
+std::vector<const InternalDesc*> reuseInternals(const LightState& l) {
+    std::vector<const InternalDesc*> out;
+    for (const InternalDesc& i : l.desc->internals)
+        if (i.kind == InternalDesc::Kind::Image && i.name.rfind("reuse", 0) == 0) out.push_back(&i);
+    return out;
+}
+
+std::string refusal(const Renderer& renderer, const ViewRequest& request) {
+    const LightState& l = *renderer.lights().at(size_t(request.light));
+    if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
+    if (reuseInternals(l).empty()) return "technique " + l.desc->id + " has no reuse maps (internals named reuse*: sssm)";
+    return "";
+}
+
+// Black (0) to white (1); "did not run" (NaN) in blue-grey.
+void build(ViewContext& ctx, ViewResult& result) {
+    const LightState& l = ctx.light();
+    std::vector<const InternalDesc*> maps = reuseInternals(l);
+    nlohmann::json stats = nlohmann::json::array();
+    std::string summary;
+    std::vector<Image> images;
+    for (const InternalDesc* m : maps) {
+        const CollectedInternal* collected = ctx.internal(m->name);
+        if (!collected || collected->levels.empty())
+            throw InputError("view reuse: technique " + l.desc->id + " wrote no '" + m->name + "' this frame");
+        Image img = collected->levels[0];
+        double sum = 0.0;
+        size_t ran = 0;
+        for (float& v : img.data) {
+            if (!std::isfinite(v) || v < 0.0f) {
+                v = NAN;
+                continue;
+            }
+            sum += v;
+            ++ran;
+        }
+        double percent = ran ? 100.0 * sum / double(ran) : 0.0;
+        stats.push_back({{"internal", m->name}, {"percent", percent}, {"pixels", ran}});
+        summary += (summary.empty() ? "" : "; ") + m->name + ": " + formatNumber(percent, 3) + "% of rows reused over " +
+                   std::to_string(ran) + " pixels";
+        images.push_back(img);
+    }
+    result.caption = "reuse  " + l.desc->id + ", L" + std::to_string(ctx.request.light) + ": " + summary;
+    result.data = {{"maps", stats}};
+    const double strip = addCaptionStrip(ctx.out, result.caption);
+    auto lut = paletteLut(Palette::Depth, 0.0, 1.0);  // 0 computed, 1 reused; no data grey
+    for (size_t k = 0; k < images.size(); ++k) {
+        auto image = toImageData(images[k], {"reuse"});
+        double x0 = double(k) / double(images.size()), x1 = double(k + 1) / double(images.size());
+        addImagePanelWithBar(ctx.out, image, "reuse", lut, maps[k]->name, "reused", x0, strip, x1, 1.0);
+        if (k == 0 && !ctx.request.exportPath.empty()) writeImageData(image, ctx.exportTarget(ctx.request.exportPath));
+    }
+}
+
+}  // namespace reuse
+}  // namespace
+
+const ViewDesc& reuseView() {
+    using namespace reuse;
+    static const ViewDesc desc = [] {
+        ViewDesc d;
+        d.info.name = "reuse";
+        d.aspect = [](const Renderer& r, const ViewRequest& q, float frame) {  // one panel per reuse map
+            return framePanelsAspect(frame, int(reuseInternals(*r.lights().at(size_t(q.light))).size()));
+        };
+        d.info.doc = "sssm's reuse maps (buades2015 Fig. 10) over the image with the share of rows reused per step";
+        d.info.appliesTo = "techniques with reuse maps (sssm)";
+        d.info.exportExtension = ".vti";
+        d.refusal = reuse::refusal;
+        d.build = reuse::build;
         return d;
     }();
     return desc;
