@@ -101,6 +101,8 @@ struct RunSpec {
     std::vector<std::pair<std::string, std::vector<std::string>>> sweep;  // key -> values, in order
     std::vector<std::pair<std::string, std::string>> fixed;               // key=value for every setting
     std::vector<Setting> settings() const;  // the cartesian product, the first key slowest
+    // How many settings() would make, counted without making them (saturates at 1e300).
+    double settingCount() const;
 };
 
 // The paper's numbers a spec reproduces (assets/bench/README.md).
@@ -137,7 +139,16 @@ struct BenchSpec {
 
 // Reads and validates a spec: every scene loads, every technique, key and value is valid, every
 // paper row matches a setting; errors name the file, line and field (InputError).
-BenchSpec loadBenchSpec(const std::string& path);
+// The settings a bench may measure unless --max-settings raises it: each costs a render of
+// `frames` + `warmup` frames, so 10,000 is hours already; three 1000-value sweeps made 10^9 in
+// memory (std::bad_alloc) before this was counted.
+constexpr double kDefaultMaxSettings = 10000;
+// scenes x light sizes x the runs' settings, counted before any is built.
+double benchSettingCount(const BenchSpec& spec);
+// InputError "<where>: the bench would measure N settings (...), over the limit of M (--max-settings
+// N raises it)" when over `maxSettings`, or "... no setting" when the count is 0.
+void checkBenchSettingCount(const BenchSpec& spec, double maxSettings, const std::string& where);
+BenchSpec loadBenchSpec(const std::string& path, double maxSettings = kDefaultMaxSettings);
 // "a:b:n": n values from a to b inclusive (rounded for integer parameters, duplicates dropped).
 std::vector<std::string> expandRange(const std::string& text, const std::string& where, bool integer);
 // Does a paper row name this setting? (scene, light size, technique, and each of the row's

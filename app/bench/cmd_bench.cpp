@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -14,6 +15,7 @@
 #include "bench/chart.h"
 #include "cli/cli.h"
 #include "cli/provenance.h"
+#include "cli/resource_limits.h"
 #include "error.h"
 #include "gl/context.h"
 #include "graph/technique.h"
@@ -67,11 +69,20 @@ BenchSpec specFromFlags(const Options& opts) {
         spec.runs.push_back(RunSpec{t, {}, {}});
     }
     if (spec.runs.empty()) throw InputError("bench: --techniques: expected a comma-separated list of techniques");
+    std::map<std::string, std::string> swept;  // key -> its --sweep, so a key is swept once
     for (const std::string& sweep : opts.all("--sweep")) {
         size_t eq = sweep.find('=');
         if (eq == std::string::npos || eq == 0)
             throw InputError("bench: --sweep: expected key=a:b:n or key=v1,v2,..., got '" + sweep + "'");
         std::string key = sweep.substr(0, eq), values = sweep.substr(eq + 1);
+        // A repeated key kept the last sweep without a word; an empty one made no setting (a CSV of
+        // its header only).
+        if (const auto it = swept.find(key); it != swept.end())
+            throw InputError("bench: --sweep: the key '" + key + "' is swept twice ('" + it->second + "' and '" + sweep +
+                             "'), expected each key once (list its values in one sweep)");
+        swept[key] = sweep;
+        if (values.empty())
+            throw InputError("bench: --sweep " + sweep + ": expected values after '=' (a:b:n or v1,v2,...), got none");
         bool used = false;
         for (RunSpec& run : spec.runs) {
             const TechniqueDesc& d = requireTechnique(run.technique, "--techniques");
@@ -81,6 +92,8 @@ BenchSpec specFromFlags(const Options& opts) {
             std::vector<std::string> list = values.find(':') != std::string::npos
                                                 ? expandRange(values, "bench: --sweep " + sweep, p->type != ParamDesc::Type::Float)
                                                 : splitList(values);
+            for (const std::string& v : list)
+                if (v.empty()) throw InputError("bench: --sweep " + sweep + ": expected a value between every two commas, got an empty one");
             ParamValues check(d);
             for (const std::string& v : list) check.set(d, key, v, "bench: --sweep " + key);
             run.sweep.push_back({key, list});
@@ -101,9 +114,13 @@ std::string fmt(const char* format, double v) {
 int commandBench(const std::vector<std::string>& args) {
     Options opts("bench", args, 1,
                  {"--spec", "--scenes", "--techniques", "--sweep", "--light-sizes", "--size", "--frames", "--warmup",
-                  "--reference", "--cache", "--csv", "--plot", "--latex", "--report", "--error", "--gl"},
+                  "--reference", "--cache", "--csv", "--plot", "--latex", "--report", "--error", "--gl", "--max-settings",
+                  "--max-memory-mb"},
                  {"--quiet"});
     if (!opts.positional().empty()) throw InputError("bench: unexpected argument '" + opts.positional()[0] + "'");
+    // The settings are counted before any is built (scenes x light sizes x sweeps).
+    const double maxSettings = opts.has("--max-settings") ? double(opts.getInt("--max-settings", 0, 1, 100000000))
+                                                          : kDefaultMaxSettings;
     BenchSpec spec;
     if (opts.has("--spec")) {
         for (const char* f : {"--scenes", "--techniques", "--sweep"})
@@ -112,7 +129,7 @@ int commandBench(const std::vector<std::string>& args) {
         // "quality-tiers" names assets/bench/quality-tiers.json.
         if (path.find('/') == std::string::npos && fs::path(path).extension() != ".json")
             path = projectRoot() + "/assets/bench/" + path + ".json";
-        spec = loadBenchSpec(path);
+        spec = loadBenchSpec(path, maxSettings);
     } else {
         spec = specFromFlags(opts);
     }
@@ -150,8 +167,19 @@ int commandBench(const std::vector<std::string>& args) {
     if (!latex.empty()) checkOutput("--latex", latex, {".tex"});
     if (!report.empty()) checkOutput("--report", report, {".md"});
     for (const std::string& p : plots) checkOutput("--plot", p, {".png", ".svg", ".pdf"});
+    // The output plan: the CSV and its sidecar, each plot, the table and the report, checked
+    // together (`--plot p.png --plot ./p.png`, `--csv b.csv --report b.csv.json`, a folder where a
+    // file goes) before anything is rendered; written through one OutputSet at the end.
+    OutputPlan plan;
+    plan.fileWithSidecar("bench: --csv", csv);
+    for (const std::string& p : plots) plan.file("bench: --plot", p);
+    plan.file("bench: --latex", latex);
+    plan.file("bench: --report", report);
+    plan.check();
     const std::string cacheDir = opts.has("--cache") ? opts.get("--cache") : defaultReferenceCacheDir();
 
+    // Counted again with the flags' light sizes, before any setting is built.
+    checkBenchSettingCount(spec, maxSettings, opts.has("--spec") ? spec.file : std::string("bench"));
     // Every setting, validated before any pixel is rendered.
     std::vector<Setting> settings;
     for (const RunSpec& run : spec.runs)
@@ -159,6 +187,28 @@ int commandBench(const std::vector<std::string>& args) {
     std::vector<Scene> scenes;
     for (const std::string& s : spec.scenes) scenes.push_back(loadScene(s));
     const size_t total = scenes.size() * spec.lightSizes.size() * settings.size();
+    // The memory estimate `render` applies, for every render the bench makes (each setting and the
+    // reference, on each scene), before the first: an 8192x8192 bench allocated first.
+    for (size_t si = 0; si < scenes.size(); ++si) {
+        RenderOptions reference;
+        reference.width = spec.width;
+        reference.height = spec.height;
+        reference.technique = spec.reference.technique;
+        std::vector<std::pair<std::string, RenderOptions>> renders = {{"the reference " + spec.reference.describe(), reference}};
+        for (const Setting& setting : settings) {
+            RenderOptions o = reference;
+            o.technique = setting.technique;
+            o.sets = setting.sets;
+            renders.push_back({setting.technique + " " + setting.describe(), o});
+        }
+        for (const auto& [what, options] : renders) {
+            try {
+                checkRenderMemory(scenes[si], options, opts);
+            } catch (const InputError& e) {
+                throw InputError("bench: " + spec.scenes[si] + ", " + what + ": " + e.what());
+            }
+        }
+    }
 
     // llvmpipe's thread count decides its speed: fixed for the run and recorded (DESIGN.md section 3).
     if (!std::getenv("LP_NUM_THREADS"))
@@ -238,7 +288,7 @@ int commandBench(const std::vector<std::string>& args) {
                             {"reference", spec.reference.describe()},
                             {"references", references},
                             {"seconds", info.seconds}};
-        write(csv + ".json", side.dump(2) + "\n");
+        write(csv + ".json", side.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
     }
     for (const std::string& p : plots) writeBenchChart(rows, spec, outputs.stage(p), fs::path(p).extension().string());
     if (!latex.empty()) write(latex, benchLatexTable(spec, rows));

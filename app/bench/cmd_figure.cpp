@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <thread>
 
 #include "bench/bench.h"
@@ -15,6 +16,7 @@
 #include "bench/figure_spec.h"
 #include "cli/cli.h"
 #include "cli/provenance.h"
+#include "cli/resource_limits.h"
 #include "error.h"
 #include "gl/context.h"
 #include "graph/technique.h"
@@ -217,8 +219,58 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
     return out;
 }
 
+// What `figure --remake` reads back from a figure's sidecar, each field checked with its type and
+// range (a tampered sidecar was read through nlohmann's unchecked const operator[]: "type must be
+// number, but is number", exit 1, and undefined behaviour for a missing key).
+struct FigureSidecar {
+    std::string spec;      // the recorded spec, as JSON text (read with the spec's own rules)
+    std::string specFile;  // the spec's file when it was made
+    std::string out;
+    std::string date;
+    struct OldCell {
+        double labelShadowMs = 0.0;
+        double rmse = NAN;  // null when the original RMSE was not a number
+    };
+    std::vector<OldCell> cells;
+    std::optional<float> errorMax;
+};
+
+FigureSidecar readFigureSidecar(const JsonDocument& doc) {
+    const JsonReader r(doc);
+    const json& root = doc.root();
+    r.requireObject(root, "");
+    auto field = [&](const char* key) -> const json* {
+        const auto it = root.find(key);
+        return it == root.end() ? nullptr : &*it;
+    };
+    if (!field("shadowlab_figure") || !field("spec") || !field("cells"))
+        r.fail("", "a figure sidecar (with shadowlab_figure, spec and cells)", "another JSON object");
+    FigureSidecar side;
+    r.integer(*field("shadowlab_figure"), "shadowlab_figure", 1, 1);
+    r.requireObject(*field("spec"), "spec");
+    side.spec = field("spec")->dump();
+    if (const json* v = field("spec_file")) side.specFile = r.string(*v, "spec_file");
+    if (const json* v = field("out")) side.out = r.string(*v, "out");
+    if (const json* v = field("date")) side.date = r.string(*v, "date");
+    if (const json* v = field("error_max")) side.errorMax = float(r.number(*v, "error_max", greaterThan(0.0)));
+    const json& cells = *field("cells");
+    if (!cells.is_array()) r.fail("cells", "an array of the figure's cells", describeJson(cells));
+    for (size_t i = 0; i < cells.size(); ++i) {
+        const std::string p = elementPath("cells", i);
+        r.requireObject(cells[i], p);
+        FigureSidecar::OldCell c;
+        const auto label = cells[i].find("label_shadow_ms");
+        if (label == cells[i].end()) r.fail(fieldPath(p, "label_shadow_ms"), "a number >= 0", "nothing (the field is required)");
+        c.labelShadowMs = r.number(*label, fieldPath(p, "label_shadow_ms"), inRange(0.0, 1e9));
+        const auto rmse = cells[i].find("rmse");
+        if (rmse != cells[i].end() && !rmse->is_null()) c.rmse = r.number(*rmse, fieldPath(p, "rmse"), atLeast(0.0));
+        side.cells.push_back(c);
+    }
+    return side;
+}
+
 int runFigure(const FigureSpec& spec, const std::string& specFile, const std::string& out, const std::string& cacheDir,
-              const json* remakeFrom, const std::string& gl) {
+              const FigureSidecar* remakeFrom, const std::string& gl) {
     if (!std::getenv("LP_NUM_THREADS"))
         setenv("LP_NUM_THREADS", std::to_string(std::max(1u, std::thread::hardware_concurrency())).c_str(), 1);
     auto context = createHeadlessContext(parseBackend(gl));
@@ -266,14 +318,12 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
             if (remakeFrom) {
                 // Labels show the times of the original run, so the picture is the same; the new
                 // times go to the new sidecar beside them.
-                const json& old = (*remakeFrom)["cells"];
-                size_t index = r * spec.columns.size() + c;
-                if (index < old.size()) {
-                    cell.labelShadowMs = old[index]["label_shadow_ms"].get<double>();
-                    if (old[index]["rmse"].get<double>() != cell.m.all.rmse)
-                        std::fprintf(stderr, "figure: warning: row %zu column %zu: RMSE %.9g, the original had %.9g\n", r, c,
-                                     cell.m.all.rmse, old[index]["rmse"].get<double>());
-                }
+                const size_t index = r * spec.columns.size() + c;
+                const FigureSidecar::OldCell& old = remakeFrom->cells[index];
+                cell.labelShadowMs = old.labelShadowMs;
+                if (!(old.rmse == cell.m.all.rmse))
+                    std::fprintf(stderr, "figure: warning: row %zu column %zu: RMSE %.9g, the original had %.9g\n", r, c,
+                                 cell.m.all.rmse, old.rmse);
             }
             json cj{{"row", r},
                     {"column", c},
@@ -309,7 +359,7 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
                 throw InternalError(std::to_string(glDebugState().errors) + " OpenGL error(s), the last: " + glDebugState().lastError);
         }
     }
-    if (remakeFrom && remakeFrom->contains("error_max")) errorMax = (*remakeFrom)["error_max"].get<float>();
+    if (remakeFrom && remakeFrom->errorMax) errorMax = *remakeFrom->errorMax;
     if (!(errorMax > 0.0f)) errorMax = 1.0f;  // every cell equals the reference: a scale of 1
     std::vector<LabelBox> layout;
     Image picture = composeFigure(spec, cells, errorMax, layout);
@@ -330,19 +380,47 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
               {"date", info.date},
               {"picture_size", {picture.width, picture.height}},
               {"layout", layoutJson}};
-    if (remakeFrom) side["remade_from"] = {{"date", remakeFrom->value("date", "")}, {"out", remakeFrom->value("out", "")}};
+    if (remakeFrom) side["remade_from"] = {{"date", remakeFrom->date}, {"out", remakeFrom->out}};
     OutputSet outputs;
     if (fs::path(out).extension() == ".pdf")
         figure::writeRasterPdf(outputs.stage(out), picture, 150.0, spec.title.empty() ? "shadowlab figure" : spec.title);
     else
         writePNG(outputs.stage(out), picture);
     std::ofstream sidecar(outputs.stage(out + ".json"), std::ios::binary);
-    sidecar << side.dump(2) << "\n";
+    sidecar << side.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     sidecar.close();
     if (!sidecar) throw InternalError("cannot write " + out + ".json");
     outputs.commit();
     std::fprintf(stderr, "figure: %s (%dx%d) and its sidecar %s.json\n", out.c_str(), picture.width, picture.height, out.c_str());
     return 0;
+}
+
+// The memory estimate `render` applies, for every cell and row reference at the rendered size
+// (size x supersample), before the first render.
+void checkFigureMemory(const FigureSpec& spec, const Options& opts) {
+    for (size_t r = 0; r < spec.rows.size(); ++r) {
+        const FigureRow& row = spec.rows[r];
+        const Scene scene = loadScene(row.scene);
+        RenderOptions reference;
+        reference.width = spec.width * spec.supersample;
+        reference.height = spec.height * spec.supersample;
+        reference.technique = spec.reference.technique;
+        std::vector<std::pair<std::string, RenderOptions>> renders = {{"the reference " + spec.reference.describe(), reference}};
+        for (size_t c = 0; c < spec.columns.size(); ++c) {
+            RenderOptions o = reference;
+            o.technique = spec.columns[c].setting.technique;
+            o.sets = spec.columns[c].setting.sets;
+            o.sets.insert(o.sets.end(), row.sets.begin(), row.sets.end());
+            renders.push_back({"columns[" + std::to_string(c) + "] " + o.technique, o});
+        }
+        for (const auto& [what, options] : renders) {
+            try {
+                checkRenderMemory(scene, options, opts);
+            } catch (const InputError& e) {
+                throw InputError("figure: rows[" + std::to_string(r) + "] " + row.scene + ", " + what + ": " + e.what());
+            }
+        }
+    }
 }
 
 void checkFigureOut(const std::string& out) {
@@ -351,28 +429,34 @@ void checkFigureOut(const std::string& out) {
         throw InputError("figure: --out: folder '" + parent.string() + "' does not exist");
     std::string ext = fs::path(out).extension().string();
     if (ext != ".png" && ext != ".pdf") throw InputError("figure: --out: expected a .png or .pdf file, got '" + out + "'");
+    // The figure and its sidecar, checked before any cell is rendered.
+    OutputPlan plan;
+    plan.fileWithSidecar("figure: --out", out);
+    plan.check();
 }
 
 }  // namespace
 
 int commandFigure(const std::vector<std::string>& args) {
-    Options opts("figure", args, 1, {"--spec", "--out", "--remake", "--cache", "--gl"}, {});
+    Options opts("figure", args, 1, {"--spec", "--out", "--remake", "--cache", "--gl", "--max-memory-mb"}, {});
     if (!opts.positional().empty()) throw InputError("figure: unexpected argument '" + opts.positional()[0] + "'");
     const std::string cacheDir = opts.has("--cache") ? opts.get("--cache") : defaultReferenceCacheDir();
     if (opts.has("--remake")) {
         if (opts.has("--spec")) throw InputError("figure: give --spec fig.json or --remake fig.png.json, not both");
         const std::string path = opts.get("--remake");
         const JsonDocument doc = JsonDocument::fromFile(path, "figure sidecar");
-        const JsonReader r(doc);
-        r.requireObject(doc.root(), "");
-        if (!doc.root().contains("shadowlab_figure") || !doc.root().contains("spec") || !doc.root().contains("cells"))
-            r.fail("", "a figure sidecar (with shadowlab_figure, spec and cells)", "another JSON object");
+        const FigureSidecar side = readFigureSidecar(doc);
         // The recorded spec is read with the spec's own rules (messages name the sidecar and "spec.<field>").
-        const JsonDocument specDoc = JsonDocument::fromString(path + " (field spec)", doc.root()["spec"].dump());
+        const JsonDocument specDoc = JsonDocument::fromString(path + " (field spec)", side.spec);
         FigureSpec spec = parseFigureSpec(specDoc);
-        std::string out = opts.get("--out", doc.root().value("out", ""));
+        if (side.cells.size() != spec.rows.size() * spec.columns.size())
+            JsonReader(doc).fail("cells", std::to_string(spec.rows.size() * spec.columns.size()) +
+                                              " cells (the spec's rows x columns)",
+                                 "an array of " + std::to_string(side.cells.size()));
+        std::string out = opts.get("--out", side.out);
         checkFigureOut(out);
-        return runFigure(spec, doc.root().value("spec_file", ""), out, cacheDir, &doc.root(), opts.get("--gl", "egl"));
+        checkFigureMemory(spec, opts);
+        return runFigure(spec, side.specFile, out, cacheDir, &side, opts.get("--gl", "egl"));
     }
     if (!opts.has("--spec")) throw InputError("figure: --spec fig.json (or --remake fig.png.json) is required");
     if (!opts.has("--out")) throw InputError("figure: --out fig.png|fig.pdf is required");
@@ -380,6 +464,7 @@ int commandFigure(const std::vector<std::string>& args) {
     checkFigureOut(out);
     const JsonDocument doc = JsonDocument::fromFile(opts.get("--spec"), "figure spec");
     FigureSpec spec = parseFigureSpec(doc);
+    checkFigureMemory(spec, opts);
     return runFigure(spec, opts.get("--spec"), out, cacheDir, nullptr, opts.get("--gl", "egl"));
 }
 

@@ -17,6 +17,17 @@ std::vector<std::pair<std::string, std::string>> readSets(const JsonReader& r, c
     return out;
 }
 
+// A label's text: at most kMaxFigureLabel characters (labels are wrapped into a cell; a
+// 200,000-character title took 29 s to fit).
+constexpr size_t kMaxFigureLabel = 1000;
+std::string labelText(const JsonFields& f, const std::string& key) {
+    std::string text = f.string(key, "");
+    if (text.size() > kMaxFigureLabel)
+        f.reader().fail(f.path(key), "a text of at most " + std::to_string(kMaxFigureLabel) + " characters",
+                        "a text of " + std::to_string(text.size()));
+    return text;
+}
+
 }  // namespace
 
 FigureSpec parseFigureSpec(const JsonDocument& doc) {
@@ -25,7 +36,7 @@ FigureSpec parseFigureSpec(const JsonDocument& doc) {
                          {"title", "size", "supersample", "frames", "warmup", "show", "reference", "rows", "columns",
                           "insets", "error_maps", "error_max", "text_scale"});
     FigureSpec spec;
-    spec.title = top.string("title", "");
+    spec.title = labelText(top, "title");
     if (const json* size = top.find("size")) {
         if (!size->is_array() || size->size() != 2) r.fail("size", "[width, height] of each cell", describeJson(*size));
         spec.width = int(r.integer((*size)[0], "size[0]", 16, 4096));
@@ -53,14 +64,14 @@ FigureSpec parseFigureSpec(const JsonDocument& doc) {
         if (!d) {
             std::string ids;
             for (const TechniqueDesc* t : allTechniques()) ids += (ids.empty() ? "" : ", ") + t->id;
-            r.fail(f.path("technique"), "a registered technique (" + ids + ")", describeJson(columns[i]["technique"]));
+            r.fail(f.path("technique"), "a registered technique (" + ids + ")", describeJson(f.require("technique", "a technique")));
         }
         if (const json* set = f.find("set")) {
             c.setting.sets = readSets(r, *set, f.path("set"));
             ParamValues check(*d);
             for (const auto& [k, v] : c.setting.sets) check.set(*d, k, v, r.place(fieldPath(f.path("set"), k)));
         }
-        c.label = f.string("label", "");
+        c.label = labelText(f, "label");
         spec.columns.push_back(c);
     }
 
@@ -93,7 +104,7 @@ FigureSpec parseFigureSpec(const JsonDocument& doc) {
                 if (!used) r.fail(fieldPath(f.path("set"), k), "a parameter of one of the columns' techniques", "\"" + k + "\"");
             }
         }
-        row.label = f.string("label", "");
+        row.label = labelText(f, "label");
         if (f.find("camera")) {
             const JsonFields c = f.object("camera", {"position", "target", "up", "fov_deg"});
             Camera cam = scene.camera;

@@ -15,6 +15,7 @@
 #include "error.h"
 #include "gl/util.h"
 #include "graph/renderer.h"
+#include "scene/input_file.h"
 
 namespace fs = std::filesystem;
 
@@ -37,11 +38,11 @@ std::string hex16(uint64_t v) {
     return text;
 }
 
-std::string readFileBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
+// A field of a JSON this program built itself (the renderer's stats): missing is a program error.
+const nlohmann::json& own(const nlohmann::json& j, const char* key) {
+    const auto it = j.find(key);
+    if (it == j.end()) throw InternalError(std::string("the renderer's stats have no field '") + key + "'");
+    return *it;
 }
 
 nlohmann::json lightJson(const Light& l) {
@@ -95,7 +96,7 @@ CachedReference cachedReference(const Scene& scene, int width, int height, std::
     }
     out.fields = {{"format", kReferenceCacheFormat},
                   {"scene", scene.name},
-                  {"scene_file_fnv1a", hex16(fnv1a(readFileBytes(scene.path)))},
+                  {"scene_file_fnv1a", hex16(fnv1a(readInputFile(scene.path, "scene file", kMaxSceneInputBytes)))},
                   {"camera",
                    {{"position", {scene.camera.position.x, scene.camera.position.y, scene.camera.position.z}},
                     {"target", {scene.camera.target.x, scene.camera.target.y, scene.camera.target.z}},
@@ -112,13 +113,27 @@ CachedReference cachedReference(const Scene& scene, int width, int height, std::
     std::error_code ec;
     if (fs::exists(out.path, ec)) {
         try {
-            std::optional<nlohmann::json> sidecar = readSidecar(out.path);
-            if (sidecar && sidecar->value("cache_key", "") == out.key && sidecar->contains("cache_key_fields") &&
-                (*sidecar)["cache_key_fields"] == out.fields) {
-                out.visibility = readPFM(out.path);
-                if (out.visibility.width == width && out.visibility.height == height && out.visibility.channels == 1) {
-                    out.hit = true;
-                    return out;
+            // An entry is used only when its sidecar's key fields are the ones asked for and every
+            // pixel is a finite visibility in [0, 1]: a NaN-filled entry was a hit with RMSE 0
+            // (issue 24). Anything else is recomputed and replaced.
+            const std::optional<nlohmann::json> sidecar = readSidecar(out.path);
+            const auto key = sidecar ? sidecar->find("cache_key") : nlohmann::json::const_iterator();
+            const auto fields = sidecar ? sidecar->find("cache_key_fields") : nlohmann::json::const_iterator();
+            if (sidecar && key != sidecar->end() && key->is_string() && key->get<std::string>() == out.key &&
+                fields != sidecar->end() && *fields == out.fields) {
+                Image cached = readPFM(out.path);
+                if (cached.width == width && cached.height == height && cached.channels == 1) {
+                    const size_t bad = size_t(std::count_if(cached.data.begin(), cached.data.end(),
+                                                            [](float v) { return !(v >= 0.0f && v <= 1.0f); }));
+                    if (bad == 0) {
+                        out.visibility = std::move(cached);
+                        out.hit = true;
+                        return out;
+                    }
+                    std::fprintf(stderr,
+                                 "shadowlab: warning: ignoring the cached reference %s: %zu of its %zu pixels are NaN, "
+                                 "infinite or outside [0, 1]; computing it again\n",
+                                 out.path.c_str(), bad, cached.data.size());
                 }
             }
         } catch (const InputError& e) {
@@ -146,6 +161,11 @@ CachedReference cachedReference(const Scene& scene, int width, int height, std::
     sidecar["cache_key_fields"] = out.fields;
     fs::create_directories(cacheDir, ec);
     if (ec) throw InputError("reference cache: cannot create the folder '" + cacheDir + "': " + ec.message());
+    // A cache entry that is no regular file (a FIFO, a folder) is the cache's own debris: replaced.
+    for (const std::string& p : {out.path, sidecarPath(out.path)}) {
+        const fs::file_status status = fs::symlink_status(p, ec);
+        if (fs::exists(status) && !fs::is_regular_file(status)) fs::remove_all(p, ec);
+    }
     OutputSet outputs;
     writePfmWithSidecar(outputs, out.path, out.visibility, sidecar);
     outputs.commit();
@@ -190,17 +210,17 @@ Measurement measureSetting(const Scene& scene, const std::string& sceneName, int
     m.height = height;
     m.frames = frames;
     m.warmup = warmup;
-    m.clock = stats["clock"].get<std::string>();
-    m.shadowMs = stats["shadow_ms"].get<double>();
-    m.fixedMs = stats["fixed_ms"].get<double>();
-    m.totalMs = stats["cost_ms"].get<double>();
-    for (const auto& p : stats["passes"]) {
-        if (!p["needed"].get<bool>() || p["runs"].get<int>() == 0) continue;
+    m.clock = own(stats, "clock").get<std::string>();
+    m.shadowMs = own(stats, "shadow_ms").get<double>();
+    m.fixedMs = own(stats, "fixed_ms").get<double>();
+    m.totalMs = own(stats, "cost_ms").get<double>();
+    for (const auto& p : own(stats, "passes")) {
+        if (!own(p, "needed").get<bool>() || own(p, "runs").get<int>() == 0) continue;
         // "L0/pcf/filter" -> "pcf/filter": per pass name, summed over the lights.
-        std::string name = p["name"].get<std::string>();
-        const std::string group = p["group"].get<std::string>();
+        std::string name = own(p, "name").get<std::string>();
+        const std::string group = own(p, "group").get<std::string>();
         if (group != "frame" && name.rfind(group + "/", 0) == 0) name = name.substr(group.size() + 1);
-        m.passMs[name] += p["median_ms"].get<double>();
+        m.passMs[name] += own(p, "median_ms").get<double>();
     }
     const auto lights = renderer.lights();
     m.lights = nlohmann::json::array();
@@ -218,10 +238,10 @@ Measurement measureSetting(const Scene& scene, const std::string& sceneName, int
     }
     for (const auto& [name, r] : renderer.pool().all())
         if (name.rfind("frame/", 0) != 0) m.techniqueBytes += r->bytes();
-    m.memoryBytes = stats["memory_bytes"].get<size_t>();
-    for (const auto& l : stats["lights"])
-        for (const auto& k : l["kernel_caps"]) {
-            const double f = k["clamped_fraction"].get<double>();
+    m.memoryBytes = own(stats, "memory_bytes").get<size_t>();
+    for (const auto& l : own(stats, "lights"))
+        for (const auto& k : own(l, "kernel_caps")) {
+            const double f = own(k, "clamped_fraction").get<double>();
             m.kernelClampedFraction = std::isnan(m.kernelClampedFraction) ? f : std::max(m.kernelClampedFraction, f);
         }
     m.visibility = renderer.visibility();

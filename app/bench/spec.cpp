@@ -63,6 +63,28 @@ std::vector<Setting> RunSpec::settings() const {
     return out;
 }
 
+double RunSpec::settingCount() const {
+    double n = 1.0;
+    for (const auto& [key, values] : sweep) n = std::min(1e300, n * double(values.size()));
+    return n;
+}
+
+double benchSettingCount(const BenchSpec& spec) {
+    double perScene = 0.0;
+    for (const RunSpec& run : spec.runs) perScene = std::min(1e300, perScene + run.settingCount());
+    return std::min(1e300, perScene * double(spec.scenes.size()) * double(spec.lightSizes.size()));
+}
+
+void checkBenchSettingCount(const BenchSpec& spec, double maxSettings, const std::string& where) {
+    const double n = benchSettingCount(spec);
+    const std::string made = std::to_string(spec.scenes.size()) + " scene(s) x " + std::to_string(spec.lightSizes.size()) +
+                             " light size(s) x the runs' sweeps";
+    if (n < 1.0) throw InputError(where + ": the bench would measure no setting (" + made + "), expected at least one");
+    if (n > maxSettings)
+        throw InputError(where + ": the bench would measure " + formatNumber(n) + " settings (" + made +
+                         "), over the limit of " + formatNumber(maxSettings) + " (--max-settings N raises it)");
+}
+
 // "a:b:n": n values from a to b inclusive (n >= 2), or n = 1: a. Integer parameters round to the
 // nearest whole number; the table then validates each value.
 std::vector<std::string> expandRange(const std::string& text, const std::string& where, bool integer) {
@@ -82,7 +104,7 @@ std::vector<std::string> expandRange(const std::string& text, const std::string&
     return out;
 }
 
-BenchSpec loadBenchSpec(const std::string& path) {
+BenchSpec loadBenchSpec(const std::string& path, double maxSettings) {
     const JsonDocument doc = JsonDocument::fromFile(path, "bench spec");
     const JsonReader r(doc);
     const JsonFields top(r, doc.root(), "",
@@ -146,7 +168,7 @@ BenchSpec loadBenchSpec(const std::string& path) {
             if (!desc) {
                 std::string ids;
                 for (const TechniqueDesc* d : allTechniques()) ids += (ids.empty() ? "" : ", ") + d->id;
-                r.fail(f.path("technique"), "a registered technique (" + ids + ")", describeJson(runs[i]["technique"]));
+                r.fail(f.path("technique"), "a registered technique (" + ids + ")", describeJson(f.require("technique", "a technique")));
             }
             ParamValues check(*desc);
             if (const json* set = f.find("set")) {
@@ -164,6 +186,10 @@ BenchSpec loadBenchSpec(const std::string& path) {
                     const std::string kp = fieldPath(f.path("sweep"), key);
                     const ParamDesc* pd = desc->findParam(key);
                     if (!pd) check.set(*desc, key, "0", r.place(kp));  // throws: unknown parameter, with the list
+                    for (const auto& [fixedKey, fixedValue] : run.fixed)
+                        if (fixedKey == key)
+                            r.fail(kp, "a parameter that the run's \"set\" does not already fix",
+                                   "\"" + key + "\", fixed to " + fixedValue + " in set");
                     std::vector<std::string> values;
                     if (v.is_string()) {
                         values = expandRange(v.get<std::string>(), r.place(kp), pd->type != ParamDesc::Type::Float);
@@ -180,6 +206,8 @@ BenchSpec loadBenchSpec(const std::string& path) {
             spec.runs.push_back(run);
         }
     }
+    // Counted before any setting is built (the paper's rows below build them).
+    checkBenchSettingCount(spec, maxSettings, r.place("runs"));
 
     if (top.find("chart")) {
         const JsonFields c = top.object("chart", {"error"});
@@ -231,11 +259,11 @@ BenchSpec loadBenchSpec(const std::string& path) {
             row.label = f.string("label");
             row.scene = f.string("scene", "");
             if (!row.scene.empty() && std::find(spec.scenes.begin(), spec.scenes.end(), row.scene) == spec.scenes.end())
-                r.fail(f.path("scene"), "one of the spec's scenes", describeJson(rows[i]["scene"]));
+                r.fail(f.path("scene"), "one of the spec's scenes", describeJson(f.require("scene", "a scene")));
             if (f.find("light_size")) row.lightSize = f.number("light_size", inRange(0.0, 1e6));
             row.technique = f.string("technique");
             if (!isPlannedTechnique(row.technique))
-                r.fail(f.path("technique"), "a technique id of DESIGN.md section 4", describeJson(rows[i]["technique"]));
+                r.fail(f.path("technique"), "a technique id of DESIGN.md section 4", describeJson(f.require("technique", "a technique")));
             if (const json* params = f.find("params")) {
                 if (!params->is_object()) r.fail(f.path("params"), "an object {key: value}", describeJson(*params));
                 const TechniqueDesc* d = findTechnique(row.technique);
@@ -287,7 +315,7 @@ BenchSpec loadBenchSpec(const std::string& path) {
         if (paper.compare == "ratio") {
             paper.baseline = p.string("baseline", paper.rows.front().label);
             bool found = std::any_of(paper.rows.begin(), paper.rows.end(), [&](const PaperRow& row) { return row.label == paper.baseline; });
-            if (!found) r.fail(p.path("baseline"), "the label of one of paper.rows", describeJson(doc.root()["paper"]["baseline"]));
+            if (!found) r.fail(p.path("baseline"), "the label of one of paper.rows", "the string \"" + paper.baseline + "\"");
         }
     }
     return spec;

@@ -1,5 +1,6 @@
 #include "cli/cli.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -126,10 +127,10 @@ namespace {
 // half-way, and nothing is written before the whole command succeeded).
 void checkOutputPath(const std::string& flag, const std::string& path) {
     if (path.empty()) throw InputError(flag + ": expected a file path");
-    fs::path parent = fs::path(path).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent))
-        throw InputError(flag + ": folder '" + parent.string() + "' does not exist");
-    if (fs::is_directory(path)) throw InputError(flag + ": '" + path + "' is a folder, expected a file path");
+    // A plan of one file: its folder exists and takes the file, the path is no folder or device.
+    OutputPlan plan;
+    plan.file(flag, path);
+    plan.check();
 }
 
 void checkExtension(const std::string& flag, const std::string& path, const std::string& ext) {
@@ -178,7 +179,7 @@ int commandList(const std::vector<std::string>& args) {
     for (const ViewInfo& v : listViews())
         j["views"].push_back({{"name", v.name}, {"doc", v.doc}, {"applies_to", v.appliesTo}, {"export", v.exportExtension}});
     if (opts.has("--json")) {
-        std::cout << j.dump(2) << "\n";
+        std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
         return 0;
     }
     std::cout << "Techniques\n";
@@ -232,25 +233,23 @@ int runRender(const RenderJob& job, const Options& opts) {
     // Everything the user gave is checked before any pixel is rendered.
     Scene scene = loadScene(job.scene, sceneLimitsFrom(opts));
     printSceneWarnings(scene);
-    checkDistinctOutputs({{"--out", job.out}, {"--visibility", job.visibility}, {"--positions", job.positions},
-                          {"--ids", job.ids}, {"--stats", job.stats}});
     checkRenderMemory(scene, job.options, opts);
-    for (const auto& [flag, path] : {std::pair<std::string, std::string>{"--out", job.out},
-                                     {"--visibility", job.visibility},
-                                     {"--positions", job.positions},
-                                     {"--ids", job.ids},
-                                     {"--stats", job.stats}}) {
-        if (path.empty()) continue;
-        checkOutputPath(flag, path);
-    }
+    // The output plan: every file this render writes, the PFMs' sidecars included, and the folder
+    // --internals fills, checked together before any pixel is rendered.
+    OutputPlan plan;
+    plan.file("--out", job.out);
+    plan.fileWithSidecar("--visibility", job.visibility);
+    plan.fileWithSidecar("--positions", job.positions);
+    plan.fileWithSidecar("--ids", job.ids);
+    plan.file("--stats", job.stats);
+    plan.folder("--internals", job.internals);
+    plan.check();
     if (!job.out.empty()) checkExtension("--out", job.out, ".png");
     for (const auto& [flag, path] : {std::pair<std::string, std::string>{"--visibility", job.visibility},
                                      {"--positions", job.positions},
                                      {"--ids", job.ids}})
         if (!path.empty()) checkExtension(flag, path, ".pfm");
     if (!job.stats.empty()) checkExtension("--stats", job.stats, ".json");
-    if (!job.internals.empty() && fs::exists(job.internals) && !fs::is_directory(job.internals))
-        throw InputError("--internals: '" + job.internals + "' exists and is not a folder");
     if (job.pixel && (job.pixel->x < 0 || job.pixel->y < 0 || job.pixel->x >= job.options.width ||
                       job.pixel->y >= job.options.height))
         throw InputError("--pixel: expected x,y inside the " + std::to_string(job.options.width) + "x" +
@@ -341,7 +340,7 @@ int runRender(const RenderJob& job, const Options& opts) {
         nlohmann::json stats = renderer.stats(frameMs, total > 1 ? 1 : 0, costFrom);
         stats["gl_renderer"] = context->renderer();
         if (job.checkReuse) stats["check_reuse"] = "passed";
-        writeText(outputs, job.stats, stats.dump(2) + "\n");
+        writeText(outputs, job.stats, stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
     }
     failOnGLErrors();
     outputs.commit();
@@ -469,6 +468,18 @@ int commandCompare(const std::vector<std::string>& args) {
     Metrics all = computeMetrics(a, b);
     std::vector<uint8_t> penumbra = penumbraMask(b);
     Metrics pen = computeMetrics(a, b, &penumbra);
+    // No pixel finite on both sides is nothing measured, not a perfect match (an all-NaN PFM
+    // compared as "pixels 0 RMSE 0 PSNR inf SSIM 1", exit 0).
+    const Metrics& measured = mask == "penumbra" ? pen : all;
+    if (measured.pixels == 0) {
+        auto finite = [](const Image& image) {
+            return std::to_string(std::count_if(image.data.begin(), image.data.end(), [](float v) { return std::isfinite(v); }));
+        };
+        throw InputError("compare: " + opts.positional()[0] + " and " + opts.positional()[1] + " have no pixel " +
+                         (mask == "penumbra" ? std::string("in the penumbra of B ") : std::string()) +
+                         "where both are finite (finite pixels: " + finite(a) + " and " + finite(b) + " of " +
+                         std::to_string(a.pixelCount()) + "), expected at least one to compare");
+    }
     OutputSet outputs;
     if (!heatmap.empty()) writePNG(outputs.stage(heatmap), errorHeatmap(a, b));
     nlohmann::json j{{"a", opts.positional()[0]}, {"b", opts.positional()[1]}, {"all", metricsJson(all)},
@@ -483,7 +494,7 @@ int commandCompare(const std::vector<std::string>& args) {
     if (!provenance.is_null()) j["provenance"] = provenance;
     outputs.commit();
     if (opts.has("--json")) {
-        std::cout << j.dump(2) << "\n";
+        std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
         return 0;
     }
     auto line = [](const char* label, const Metrics& m) {
@@ -532,10 +543,10 @@ void printUsage() {
         "  shadowlab bench (--spec NAME|file.json | --scenes A,B --techniques T1,T2 [--sweep key=a:b:n|key=v1,v2]...)\n"
         "                  [--light-sizes s1,s2] [--size WxH] [--frames N] [--warmup N] [--reference raytraced:M|reference:N]\n"
         "                  [--cache DIR] [--csv out.csv] [--plot p.png|p.svg|p.pdf]... [--latex t.tex] [--report r.md]\n"
-        "                  [--error rmse|1-ssim] [--quiet]\n"
+        "                  [--error rmse|1-ssim] [--max-settings N] [--quiet]\n"
         "  shadowlab figure --spec fig.json --out fig.png|fig.pdf | --remake fig.png.json [--out fig.png]\n"
         "  shadowlab viz --view V --scene S [--technique T] [--set k=v]... [--pixel x,y] [--internal NAME] [--light N]\n"
-        "                [--size WxH] [--view-size WxH] --out view.png [--export data.vtp|.vti]\n"
+        "                [--size WxH] [--view-size WxH] --out view.png [--export data.vtp|.vti] [--max-memory-mb MB]\n"
         "                [--reference v.pfm | --reference-samples N]"
         " [--rays M] [--azimuth deg] [--elevation deg] [--zoom z] [--json]");
 }

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "cli/cli.h"
+#include "cli/resource_limits.h"
 #include "error.h"
 #include "gl/context.h"
 #include "graph/renderer.h"
@@ -46,7 +47,7 @@ int commandViz(const std::vector<std::string>& args) {
     Options opts("viz", args, 1,
                  {"--view", "--scene", "--technique", "--set", "--pixel", "--internal", "--light", "--size",
                   "--view-size", "--out", "--export", "--reference", "--reference-samples", "--rays", "--azimuth", "--elevation", "--zoom",
-                  "--light-size"},
+                  "--light-size", "--max-memory-mb", "--max-triangles"},
                  {"--json"});
     if (!opts.positional().empty()) throw InputError("viz: unexpected argument '" + opts.positional()[0] + "'");
     std::string views;
@@ -98,6 +99,12 @@ int commandViz(const std::vector<std::string>& args) {
             throw InputError("--export: view " + info->name + " exports " + info->exportExtension + " data, got '" +
                              exportPath + "'");
     }
+    // The view's picture and its export, checked together (one file named twice, a folder, a
+    // folder that cannot take them) before anything is rendered.
+    OutputPlan plan;
+    plan.file("--out", out);
+    plan.file("--export", exportPath);
+    plan.check();
     Image reference;
     if (opts.has("--reference")) {
         if (request.view != "error") throw InputError("--reference: only the error view compares with a reference");
@@ -110,7 +117,9 @@ int commandViz(const std::vector<std::string>& args) {
         if (opts.has("--reference")) throw InputError("viz: give --reference FILE or --reference-samples N, not both");
         request.referenceSamples = opts.getInt("--reference-samples", 0, 1, 65536);
     }
-    Scene scene = loadScene(opts.get("--scene"));
+    Scene scene = loadScene(opts.get("--scene"), sceneLimitsFrom(opts));
+    // The memory estimate `render` applies, before the context and the renderer exist.
+    checkRenderMemory(scene, options, opts);
     // VTK needs EGL (or the window's context): it does not mix with OSMesa in one process.
     auto context = createHeadlessContext(GLBackend::Egl);
     options.cpuClock = context->isSoftwareRasterizer();
@@ -130,7 +139,7 @@ int commandViz(const std::vector<std::string>& args) {
         throw InternalError(std::to_string(vtkMessages().errors) + " VTK error(s), the last: " + vtkMessages().last);
     outputs.commit();
     if (opts.has("--json")) {
-        std::cout << nlohmann::json{{"view", request.view}, {"caption", result.caption}, {"data", result.data}}.dump(2)
+        std::cout << nlohmann::json{{"view", request.view}, {"caption", result.caption}, {"data", result.data}}.dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
                   << "\n";
     } else {
         std::cout << result.caption << "\n";

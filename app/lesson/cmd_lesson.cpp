@@ -3,9 +3,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 #include "cli/cli.h"
+#include "cli/resource_limits.h"
 #include "error.h"
+#include "image/image.h"
 #include "gl/context.h"
 #include "lesson/cmd_lesson.h"
 #include "lesson/headless.h"
@@ -36,7 +39,8 @@ nlohmann::json describeLessons() {
 
 int commandLesson(const std::vector<std::string>& args) {
     Options opts("lesson", args, 1,
-                 {"--out", "--size", "--gl", "--sizes", "--screenshot", "--frames", "--script", "--report", "--ui-scale"},
+                 {"--out", "--size", "--gl", "--sizes", "--screenshot", "--frames", "--script", "--report", "--ui-scale",
+                  "--max-memory-mb"},
                  {"--headless", "--check", "--present"});
     if (opts.positional().size() != 1)
         throw InputError("lesson: expected one lesson name or .md path, e.g. 'shadowlab lesson intro --headless --out DIR'");
@@ -62,6 +66,32 @@ int commandLesson(const std::vector<std::string>& args) {
             throw InputError("lesson: --out: folder '" + parent.string() + "' does not exist");
     }
     Lesson lesson = loadLesson(opts.positional()[0]);
+    // The memory estimate `render` applies, for each step's technique and reference at the
+    // handout's size (and each --check size), before the first render.
+    auto checkLessonMemory = [&](int width, int height) {
+        std::map<std::string, Scene> scenes;
+        for (const LessonStep& step : lesson.steps)
+            for (const LessonState* state : {&step.state, step.answerState ? &*step.answerState : nullptr}) {
+                if (!state) continue;
+                auto it = scenes.find(state->scene);
+                if (it == scenes.end()) it = scenes.emplace(state->scene, loadScene(state->scene)).first;
+                Scene scene = it->second;
+                scene.lights = state->lights;
+                for (const bool reference : {false, true}) {
+                    RenderOptions o;
+                    o.width = width;
+                    o.height = height;
+                    o.technique = reference ? state->referenceTechnique : state->technique;
+                    o.sets = reference ? state->referenceParamTexts() : state->paramTexts();
+                    try {
+                        checkRenderMemory(scene, o, opts);
+                    } catch (const InputError& e) {
+                        throw InputError(step.where.str() + ": " + o.technique + " at " + std::to_string(width) + "x" +
+                                         std::to_string(height) + ": " + e.what());
+                    }
+                }
+            }
+    };
     size_t tasks = 0;
     for (const LessonStep& s : lesson.steps) tasks += s.task.has_value();
     if (opts.has("--check") && !headless) {
@@ -79,6 +109,7 @@ int commandLesson(const std::vector<std::string>& args) {
             const std::string one = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
             int w = 0, h = 0;
             parseSize(one, w, h);
+            checkLessonMemory(w, h);
             sizes.push_back({w, h});
             if (comma == std::string::npos) break;
             start = comma + 1;
@@ -110,9 +141,20 @@ int commandLesson(const std::vector<std::string>& args) {
         if (opts.has("--present")) windowArgs.push_back("--present");
         return runWindow(windowArgs);
     }
+    checkLessonMemory(width, height);
+    // The handout's folder takes files (tried, before any step is rendered); a folder this run
+    // creates is removed again when the run fails (a failed handout left an empty folder).
+    const bool existed = fs::exists(out);
+    checkOutputWritable(existed ? (fs::path(out) / "index.html").string() : (fs::path(out).lexically_normal() / "").parent_path().string());
     auto context = createHeadlessContext(parseBackend(opts.get("--gl", "egl")));
     fs::create_directories(out);
-    renderLessonHeadless(lesson, out, width, height);
+    try {
+        renderLessonHeadless(lesson, out, width, height);
+    } catch (...) {
+        std::error_code ignored;
+        if (!existed) fs::remove(out, ignored);  // only when empty: nothing of the user's is touched
+        throw;
+    }
     std::printf("%s\n", (fs::path(out) / "index.html").string().c_str());
     return 0;
 }

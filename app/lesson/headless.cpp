@@ -264,7 +264,17 @@ nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& dir
                         renderLessonView(host, "technique"));
         js["images"] = {h.picture.file};
         for (const std::string& view : step.state.views) {
-            h.views.push_back(png(stepFile(k, "-" + view), view, renderLessonView(host, view)));
+            // A view that does not apply to the step's technique (`show hsm` under `hard`) is the
+            // lesson's error: named by the step's file and line, not only by the view.
+            Image picture;
+            try {
+                picture = renderLessonView(host, view);
+            } catch (const LessonCheckError&) {
+                throw;
+            } catch (const InputError& e) {
+                throw InputError(step.where.str() + ": show " + view + " (technique " + step.state.technique + "): " + e.what());
+            }
+            h.views.push_back(png(stepFile(k, "-" + view), view, picture));
             js["images"].push_back(h.views.back().file);
         }
         if (auto p = host.pickedPixel()) {
@@ -329,7 +339,7 @@ nlohmann::json renderLessonHeadless(const Lesson& lesson, const std::string& dir
     html << lessonHandoutHtml(lesson, handout);
     html.close();
     std::ofstream json(outputs.stage((fs::path(directory) / "lesson.json").string()), std::ios::binary);
-    json << summary.dump(2) << "\n";
+    json << summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     json.close();
     if (!html || !json) throw InternalError("cannot write the handout into " + directory);
     outputs.commit();

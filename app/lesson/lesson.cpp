@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -45,7 +46,19 @@ double parseNumber(const std::string& text, const SourceLocation& where, const s
     double v = std::strtod(text.c_str(), &end);
     if (text.empty() || *end != '\0' || !std::isfinite(v))
         throw InputError(where.str() + ": " + what + ": expected a finite number, got '" + text + "'");
+    // Every lesson number ends in a float (light, camera, picks, parameters, thresholds): checked in
+    // that type, so "light position 1e300 4 0" is refused here instead of becoming infinity.
+    if (std::abs(v) > double(std::numeric_limits<float>::max()))
+        throw InputError(where.str() + ": " + what + ": expected a finite number in a float's range (|x| <= 3.4e38), got '" +
+                         text + "'");
     return v;
+}
+
+// The light size's limits, the same whether it is set (light size, light.size=S) or animated.
+constexpr double kMaxLessonLightSize = 1000.0;
+void checkLightSize(double v, const std::string& at, const std::string& text) {
+    if (v < 0.0 || v > kMaxLessonLightSize)
+        throw InputError(at + ": expected a value in [0, 1000], got " + text);
 }
 
 // Scenes are loaded once per process for validation (a lesson names few).
@@ -158,8 +171,7 @@ void applyLight(LessonState& state, const LessonCommand& c) {
             if (light.shape == LightShape::Point) light.size = 0.0f;
         } else if (key == "size") {
             double v = parseNumber(value, c.where, "light size");
-            if (v < 0.0 || v > 1000.0)
-                throw InputError(c.where.str() + ": light size: expected a value in [0, 1000], got " + value);
+            checkLightSize(v, c.where.str() + ": light size", value);
             light.size = float(v);
             if (v > 0.0 && light.shape == LightShape::Point) light.shape = LightShape::Square;
         } else if (key == "intensity") {
@@ -438,8 +450,8 @@ std::vector<CondToken> tokenizeCondition(const std::string& text, const SourceLo
             char* end = nullptr;
             double v = std::strtod(text.c_str() + i, &end);
             size_t n = size_t(end - (text.c_str() + i));
-            if (n == 0 || !std::isfinite(v))
-                throw InputError(where.str() + ": " + command + ": expected a number at '" + text.substr(i) + "'");
+            if (n == 0 || !std::isfinite(v) || std::abs(v) > double(std::numeric_limits<float>::max()))
+                throw InputError(where.str() + ": " + command + ": expected a number (in a float's range) at '" + text.substr(i) + "'");
             out.push_back({text.substr(i, n), true, v});
             i += n;
         } else if (std::isalpha(static_cast<unsigned char>(c))) {
@@ -658,8 +670,7 @@ LessonState variantState(const LessonState& step, const std::vector<std::pair<st
             s.params = ParamValues(desc);
         } else if (key == "light.size") {
             double v = parseNumber(value, where, command + " [light.size=S]");
-            if (v < 0.0 || v > 1000.0)
-                throw InputError(where.str() + ": " + command + ": light.size: expected a value in [0, 1000], got " + value);
+            checkLightSize(v, where.str() + ": " + command + ": light.size", value);
             if (s.lights.empty()) throw InputError(where.str() + ": " + command + ": light.size: the scene has no light");
             s.lights[0].size = float(v);
             if (v > 0.0 && s.lights[0].shape == LightShape::Point) s.lights[0].shape = LightShape::Square;
@@ -1021,7 +1032,11 @@ void applyStepCommands(LessonStep& step, LessonState& state) {
             const std::string k = a.target.substr(6);
             if (k != "size" && k != "x" && k != "y" && k != "z")
                 throw InputError(at + "unknown target '" + a.target + "' (light.size, light.x, light.y, light.z or a parameter)");
-            if (k == "size" && (a.from < 0.0 || a.to < 0.0)) throw InputError(at + "light.size: expected values >= 0");
+            if (k == "size") {
+                // The limits of 'light size' (an animation to 1e9 was accepted while 'light size 1e9' was not).
+                checkLightSize(a.from, at + "light.size FROM", formatValue(a.from));
+                checkLightSize(a.to, at + "light.size TO", formatValue(a.to));
+            }
             if (state.lights.empty()) throw InputError(at + "the scene has no light");
         } else {
             const TechniqueDesc& desc = *findTechnique(state.technique);

@@ -1,7 +1,11 @@
 // PFM and PNG files and all-or-nothing outputs (techniques/core/image/image.h).
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
+
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -297,4 +301,105 @@ TEST(OutputSet, AbortWithUnwrittenTemporariesIsQuiet) {
         outputs.stage(dir + "/never-written.pfm");
     }
     EXPECT_TRUE(fs::is_empty(dir));
+}
+
+namespace {
+
+size_t stagedFilesIn(const std::string& dir) {
+    size_t n = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) n += entry.path().string().find(".tmp-") != std::string::npos;
+    return n;
+}
+
+}  // namespace
+
+// Issue 24: SIGTERM with more staged files than the first round's 64 signal slots. A child stages
+// 150 written files and is killed; every temporary is gone (the first 64 only, before).
+TEST(OutputSet, SigtermAfterMoreThan64StagedFilesRemovesThemAll) {
+    const std::string dir = testDir();
+    int ready[2];
+    ASSERT_EQ(::pipe(ready), 0);
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        removeStagedOutputsOnSignals();
+        auto* outputs = new OutputSet;  // never destroyed: only the handler may clean up
+        for (int i = 0; i < 150; ++i) writePFM(outputs->stage(dir + "/out-" + std::to_string(i) + ".pfm"), Image(1, 1, 1, 0.5f));
+        (void)!::write(ready[1], "x", 1);
+        while (true) ::pause();
+    }
+    ::close(ready[1]);
+    char byte = 0;
+    ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+    ::close(ready[0]);
+    EXPECT_EQ(stagedFilesIn(dir), 150u);
+    ::kill(child, SIGTERM);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
+    EXPECT_EQ(stagedFilesIn(dir), 0u);
+    EXPECT_TRUE(fs::is_empty(dir));
+}
+
+// Issue 24: commit() renames nothing when a final path is a folder (the PNG and PFM were moved into
+// place before the sidecar's rename failed), and stage() refuses a folder that cannot take the file.
+TEST(OutputSet, AFolderWhereAFileGoesCommitsNothing) {
+    const std::string dir = testDir();
+    fs::create_directories(dir + "/v.pfm.json");
+    {
+        OutputSet outputs;
+        writePNG(outputs.stage(dir + "/o.png"), Image(2, 2, 1, 0.5f));
+        writePFM(outputs.stage(dir + "/v.pfm"), Image(2, 2, 1, 0.5f));
+        std::ofstream(outputs.stage(dir + "/v.pfm.json")) << "{}";
+        try {
+            outputs.commit();
+            ADD_FAILURE() << "commit() moved files over a folder";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(dir + "/v.pfm.json: is a folder"), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_FALSE(fs::exists(dir + "/o.png"));
+    EXPECT_FALSE(fs::exists(dir + "/v.pfm"));
+    size_t entries = 0;
+    for (const auto& e : fs::directory_iterator(dir)) entries += (void(e), 1);
+    EXPECT_EQ(entries, 1u);  // the folder only
+    OutputSet outputs;
+    try {
+        outputs.stage("/sys/shadowlab-test-output.png");
+        ADD_FAILURE() << "staged a file in /sys";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("/sys/shadowlab-test-output.png: cannot write the output in the folder '/sys'"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+// Issue 24: a PFM header is checked from the file's first bytes before the raster is read: a side
+// over 8192 and a file far longer than its header says are refused at once, without reading a
+// sparse gigabyte.
+TEST(Pfm, AHeaderIsCheckedBeforeTheRasterIsRead) {
+    const std::string dir = testDir();
+    auto sparse = [&](const std::string& name, const std::string& header, uintmax_t size) {
+        const std::string path = dir + "/" + name;
+        std::ofstream(path, std::ios::binary) << header;
+        fs::resize_file(path, size);
+        return path;
+    };
+    const uintmax_t almostGiB = (uintmax_t(1) << 30) - 1;
+    for (const auto& [path, message] : std::vector<std::pair<std::string, std::string>>{
+             {sparse("huge.pfm", "Pf\n30000 30000\n-1.0\n", almostGiB), "expected a width and a height as positive integers up to 8192"},
+             {sparse("long.pfm", "Pf\n16 16\n-1.0\n", almostGiB), "bytes follow it"},
+             {sparse("short.pfm", "Pf\n8192 8192\n-1.0\n", 1000), "truncated PFM data"}}) {
+        SCOPED_TRACE(path);
+        const auto t0 = std::chrono::steady_clock::now();
+        std::string error;
+        try {
+            readPFM(path);
+        } catch (const InputError& e) {
+            error = e.what();
+        }
+        EXPECT_NE(error.find(path), std::string::npos) << error;
+        EXPECT_NE(error.find(message), std::string::npos) << error;
+        EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.2);
+    }
 }

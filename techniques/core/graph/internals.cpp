@@ -68,14 +68,14 @@ void InternalWriter::mesh(const std::string& name, const MeshData& mesh, const s
 void InternalWriter::json(const std::string& name, const nlohmann::json& value, const std::string& doc,
                           const std::string& kind) {
     std::string file = prefix_ + name + ".json";
-    std::ofstream(stage(file), std::ios::binary) << value.dump(2) << "\n";
+    std::ofstream(stage(file), std::ios::binary) << value.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     entries_.push_back({{"name", name}, {"file", file}, {"kind", kind}, {"description", doc}});
 }
 
 void InternalWriter::writeIndex() {
     fs::create_directories(directory_);
     std::ofstream(outputs_.stage((fs::path(directory_) / "index.json").string()), std::ios::binary)
-        << nlohmann::json{{"files", entries_}}.dump(2) << "\n";
+        << nlohmann::json{{"files", entries_}}.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
 }
 
 }  // namespace shadowlab

@@ -1,6 +1,7 @@
 #include "graph/renderer.h"
 
 #include <algorithm>
+#include <tuple>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -154,15 +155,7 @@ Renderer::~Renderer() {
 void Renderer::configureLight(LightSlot& slot) {
     LightState& s = slot.state;
     // A point light runs no soft-shadow pass: hard shadows, with the shadow-map settings.
-    bool soft = std::any_of(s.requested->passes.begin(), s.requested->passes.end(), [](const PassDesc& p) { return p.soft; });
-    if (s.light.isPoint() && soft) {
-        s.desc = &requireTechnique("hard", "internal");
-        s.params = ParamValues(*s.desc);
-        s.params.copySharedFrom(s.requestedParams);
-    } else {
-        s.desc = s.requested;
-        s.params = s.requestedParams;
-    }
+    std::tie(s.desc, s.params) = techniqueForLight(*s.requested, s.requestedParams, s.light.isPoint());
     slot.passes.clear();
     if (s.light.castsShadows)
         for (const PassDesc& p : s.desc->passes) slot.passes.push_back(p.create());
@@ -354,27 +347,15 @@ std::vector<const Texture*> Renderer::ensurePassResources(LightSlot& slot, size_
             pool_.release(q);
             continue;
         }
-        int w = 1, h = 1;
-        switch (r.size.kind) {
-            case SizeRule::Kind::Frame:
-                w = (frame_.width + r.size.scaleDown - 1) / r.size.scaleDown;
-                h = (frame_.height + r.size.scaleDown - 1) / r.size.scaleDown;
-                break;
-            case SizeRule::Kind::ShadowMap:
-                w = h = l.params.getInt(r.size.from);
-                break;
-            case SizeRule::Kind::Fixed:
-                w = r.size.width;
-                h = r.size.height;
-                break;
-            case SizeRule::Kind::Like: {
-                const Resource* other = pool_.find(l.group + "/" + r.size.from);
-                if (!other) throw InternalError(name + ": '" + r.name + "' is sized like '" + r.size.from + "', which is not allocated");
-                w = (other->width + r.size.scaleDown - 1) / r.size.scaleDown;
-                h = (other->height + r.size.scaleDown - 1) / r.size.scaleDown;
-                break;
-            }
-        }
+        const glm::ivec2 size = resolveResourceSize(
+            r, {frame_.width, frame_.height}, l.params,
+            [&](const std::string& other) -> std::optional<glm::ivec2> {
+                const Resource* found = pool_.find(l.group + "/" + other);
+                if (!found) return std::nullopt;
+                return glm::ivec2(found->width, found->height);
+            },
+            name);
+        const int w = size.x, h = size.y;
         const Resource* before = pool_.find(q);
         const GLuint oldId = before ? before->texture.id() : 0;
         Resource& now = pool_.ensure(q, r, w, h);

@@ -392,4 +392,77 @@ std::vector<std::string> validateTechnique(const TechniqueDesc& desc) {
     return problems;
 }
 
+std::pair<const TechniqueDesc*, ParamValues> techniqueForLight(const TechniqueDesc& requested,
+                                                               const ParamValues& requestedParams, bool pointLight) {
+    const bool soft = std::any_of(requested.passes.begin(), requested.passes.end(), [](const PassDesc& p) { return p.soft; });
+    if (!(pointLight && soft)) return {&requested, requestedParams};
+    const TechniqueDesc* hard = &requireTechnique("hard", "internal");
+    ParamValues params(*hard);
+    params.copySharedFrom(requestedParams);
+    return {hard, params};
+}
+
+glm::ivec2 resolveResourceSize(const ResourceDesc& r, glm::ivec2 frame, const ParamValues& params,
+                               const std::function<std::optional<glm::ivec2>(const std::string&)>& like,
+                               const std::string& where) {
+    const int down = std::max(r.size.scaleDown, 1);
+    switch (r.size.kind) {
+        case SizeRule::Kind::Frame: return {(frame.x + down - 1) / down, (frame.y + down - 1) / down};
+        case SizeRule::Kind::ShadowMap: {
+            const int side = params.getInt(r.size.from);
+            return {side, side};
+        }
+        case SizeRule::Kind::Fixed: return {r.size.width, r.size.height};
+        case SizeRule::Kind::Like: {
+            const std::optional<glm::ivec2> other = like(r.size.from);
+            if (!other) throw InternalError(where + ": '" + r.name + "' is sized like '" + r.size.from + "', which is not allocated");
+            return {(other->x + down - 1) / down, (other->y + down - 1) / down};
+        }
+    }
+    return {1, 1};
+}
+
+double declaredResourceBytes(const ResourceDesc& r, glm::ivec2 size) {
+    const double w = std::max(size.x, 1), h = std::max(size.y, 1);
+    const double layers = std::max(r.layers, 1);
+    switch (r.kind) {
+        case ResourceKind::Mesh: return 0.0;
+        case ResourceKind::StorageBuffer: return std::max(double(r.elementBytes) * w * h * layers, 4.0);
+        case ResourceKind::Texture: return double(formatTexelBytes(r.format)) * w * h;
+        case ResourceKind::Pyramid:
+        case ResourceKind::TextureArray: {
+            // A pyramid's levels 0: the full chain down to 1x1; an array has at least one level
+            // (ResourcePool::ensure).
+            int levels = r.kind == ResourceKind::TextureArray ? std::max(r.levels, 1) : r.levels;
+            if (levels <= 0) levels = fullMipLevels(size.x, size.y);
+            double texels = 0.0;
+            for (int level = 0; level < levels; ++level)
+                texels += std::max(1.0, std::floor(w / std::exp2(level))) * std::max(1.0, std::floor(h / std::exp2(level)));
+            return double(formatTexelBytes(r.format)) * texels * layers;
+        }
+    }
+    return 0.0;
+}
+
+double techniqueResourceBytes(const TechniqueDesc& desc, const ParamValues& params, glm::ivec2 frame) {
+    std::map<std::string, glm::ivec2> sizes;
+    double bytes = 0.0;
+    for (const PassDesc& pass : desc.passes)
+        for (const ResourceDesc& r : pass.creates) {
+            const std::string where = desc.id + "/" + pass.name;
+            if (!r.appliesWhen.empty() && !Condition(r.appliesWhen, desc, where).holds(params)) continue;
+            const glm::ivec2 size = resolveResourceSize(
+                r, frame, params,
+                [&](const std::string& name) -> std::optional<glm::ivec2> {
+                    const auto it = sizes.find(name);
+                    if (it == sizes.end()) return std::nullopt;
+                    return it->second;
+                },
+                where);
+            sizes[r.name] = size;
+            bytes += declaredResourceBytes(r, size);
+        }
+    return bytes;
+}
+
 }  // namespace shadowlab

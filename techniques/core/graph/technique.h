@@ -209,6 +209,27 @@ private:
     std::map<std::string, std::string> choices_;  // enum key -> chosen name
 };
 
+// The technique a light runs, and its parameters: `requested` with its values, or `hard` (with the
+// shadow-map settings both declare) for a point light when `requested` has soft passes (they do not
+// run for a point; Renderer::configureLight and the memory estimate both ask here).
+std::pair<const TechniqueDesc*, ParamValues> techniqueForLight(const TechniqueDesc& requested,
+                                                               const ParamValues& requestedParams, bool pointLight);
+
+// The side of a resource from its size rule (Renderer::ensurePassResources allocates at it): Frame
+// and Fixed directly, ShadowMap from its parameter, Like from `like(name)`, the size of the named
+// resource of the same light (nullopt when it is not allocated: InternalError naming `where`).
+glm::ivec2 resolveResourceSize(const ResourceDesc& r, glm::ivec2 frame, const ParamValues& params,
+                               const std::function<std::optional<glm::ivec2>(const std::string&)>& like,
+                               const std::string& where);
+// The bytes a declaration takes once allocated at `size` (what Resource::bytes() reports): texels x
+// levels x layers, a storage buffer's elements; 0 for a Mesh (CPU-side, its size follows the scene).
+double declaredResourceBytes(const ResourceDesc& r, glm::ivec2 size);
+// The bytes of every resource one light's passes declare and whose appliesWhen holds, at a frame
+// size: what the pool allocates for that light. The memory estimate (`--max-memory-mb`) counts it
+// before anything is allocated (issue 24: ssm-gbp06 at sm_size 8192 was estimated at half of what
+// it took).
+double techniqueResourceBytes(const TechniqueDesc& desc, const ParamValues& params, glm::ivec2 frame);
+
 // Registry (techniques/registry.cpp): every technique, in the order `list` shows them.
 const std::vector<const TechniqueDesc*>& allTechniques();
 const TechniqueDesc* findTechnique(const std::string& id);                     // nullptr if unknown

@@ -16,6 +16,7 @@
 #include <csignal>
 #include <cstring>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <bit>
@@ -43,7 +44,7 @@ static_assert(sizeof(float) == 4 && std::numeric_limits<float>::is_iec559, "PFM 
 
 // The largest image side we accept from a file: guards the size computation against overflow and
 // against a corrupt header asking for terabytes.
-constexpr long long kMaxPfmSide = 1 << 20;
+constexpr long long kMaxPfmSide = 8192;  // the largest image the renderer makes
 constexpr long long kMaxPfmFloats = 1LL << 32;
 
 std::uint32_t byteSwap32(std::uint32_t v) {
@@ -99,9 +100,17 @@ void writeAll(const std::string& path, const std::string& bytes) {
 
 }  // namespace
 
-Image readPFM(const std::string& path) {
-    const std::string bytes = readInputFile(path, "PFM file", kMaxImageInputBytes);
+namespace {
 
+struct PfmHeader {
+    int channels = 0;
+    long long width = 0, height = 0;
+    bool fileLittleEndian = true;
+    size_t rasterStart = 0;  // the first byte of the floats
+};
+
+// The header at the start of `bytes`; InputError naming `path` when it is not a PFM header.
+PfmHeader parsePfmHeader(const std::string& bytes, const std::string& path) {
     size_t pos = 0;
     std::string magic = headerToken(bytes, pos);
     int channels = 0;
@@ -137,7 +146,51 @@ Image readPFM(const std::string& path) {
         throw InputError(path + ": PFM header: expected one whitespace character after the scale");
     }
     ++pos;
-    const bool fileLittleEndian = scale < 0.0;
+    PfmHeader header;
+    header.channels = channels;
+    header.width = width;
+    header.height = height;
+    header.fileLittleEndian = scale < 0.0;
+    header.rasterStart = pos;
+    return header;
+
+}
+
+}  // namespace
+
+Image readPFM(const std::string& path) {
+    // The header is checked from the file's first bytes, before the raster is read: a header over
+    // the size limits, or asking for more floats than the file holds, is refused without reading
+    // the file (a 30000x30000 header on a sparse file was read whole).
+    const std::string bytes = readInputFile(path, "PFM file", kMaxImageInputBytes, [&](const std::string& start, uintmax_t fileBytes) {
+        PfmHeader h;
+        try {
+            h = parsePfmHeader(start, path);
+        } catch (const InputError&) {
+            // Refused now when the start holds the four header tokens and the whitespace after
+            // them; a header longer than the start is checked on the whole file.
+            size_t pos = 0;
+            for (int token = 0; token < 4; ++token) headerToken(start, pos);
+            if (pos < start.size() || start.size() == fileBytes) throw;
+            return;
+        }
+        const uintmax_t raster = uintmax_t(h.width) * uintmax_t(h.height) * uintmax_t(h.channels) * sizeof(float);
+        if (fileBytes - h.rasterStart < raster)
+            throw InputError(path + ": truncated PFM data: expected " + std::to_string(raster) + " bytes of floats for " +
+                             std::to_string(h.width) + "x" + std::to_string(h.height) + "x" + std::to_string(h.channels) +
+                             ", found " + std::to_string(fileBytes - h.rasterStart));
+        // Beyond a little slack (a trailing newline some tools add), bytes past the raster are no
+        // part of this image: refused before gigabytes of them are read.
+        if (fileBytes - h.rasterStart > raster + 4096)
+            throw InputError(path + ": PFM data: the header says " + std::to_string(h.width) + "x" + std::to_string(h.height) +
+                             "x" + std::to_string(h.channels) + " (" + std::to_string(raster) + " bytes of floats), but " +
+                             std::to_string(fileBytes - h.rasterStart) + " bytes follow it");
+    });
+    const PfmHeader header = parsePfmHeader(bytes, path);
+    const int channels = header.channels;
+    const long long width = header.width, height = header.height;
+    const bool fileLittleEndian = header.fileLittleEndian;
+    const size_t pos = header.rasterStart;
 
     const size_t count = size_t(width) * size_t(height) * size_t(channels);
     const size_t rasterBytes = count * sizeof(float);
@@ -221,39 +274,59 @@ void writePNG(const std::string& path, const Image& image) {
 
 namespace {
 
-// The staged temporaries, where a signal handler can read them without allocating or locking:
-// fixed slots, each free (0), being changed (1) or holding a path (2).
-constexpr int kStagedSlots = 64;
-constexpr size_t kStagedPathMax = 4096;
-char gStagedPaths[kStagedSlots][kStagedPathMax];
-std::atomic<int> gStagedState[kStagedSlots];
+// The staged temporaries, where a signal handler can read them without allocating or locking: a
+// list of nodes that only grows (a node is reused once free, never freed), so there is no fixed slot
+// count (the first round kept 64 slots: a handout staging more left the rest behind on SIGTERM) and
+// no limit on a path's length. Each node is free (0), being changed (1) or holding a path (2); the
+// handler unlinks the paths of nodes in state 2 only.
+struct StagedNode {
+    std::atomic<int> state{1};
+    char* path = nullptr;  // written only in state 1
+    size_t capacity = 0;
+    StagedNode* next = nullptr;
+};
+std::atomic<StagedNode*> gStagedHead{nullptr};
+
+void fillNode(StagedNode* node, const std::string& path) {
+    if (node->capacity < path.size() + 1) {
+        delete[] node->path;
+        node->path = new char[path.size() + 1];
+        node->capacity = path.size() + 1;
+    }
+    std::memcpy(node->path, path.c_str(), path.size() + 1);
+}
 
 void registerStaged(const std::string& path) {
-    if (path.size() + 1 > kStagedPathMax) return;
-    for (int i = 0; i < kStagedSlots; ++i) {
+    for (StagedNode* n = gStagedHead.load(); n; n = n->next) {
         int expected = 0;
-        if (gStagedState[i].compare_exchange_strong(expected, 1)) {
-            std::memcpy(gStagedPaths[i], path.c_str(), path.size() + 1);
-            gStagedState[i].store(2);
+        if (n->state.compare_exchange_strong(expected, 1)) {
+            fillNode(n, path);
+            n->state.store(2);
             return;
         }
     }
+    auto* node = new StagedNode;  // state 1 until filled and linked
+    fillNode(node, path);
+    node->next = gStagedHead.load();
+    while (!gStagedHead.compare_exchange_weak(node->next, node)) {
+    }
+    node->state.store(2);
 }
 
 void unregisterStaged(const std::string& path) {
-    for (int i = 0; i < kStagedSlots; ++i) {
+    for (StagedNode* n = gStagedHead.load(); n; n = n->next) {
         int expected = 2;
-        if (std::strcmp(gStagedPaths[i], path.c_str()) == 0 && gStagedState[i].compare_exchange_strong(expected, 1)) {
-            gStagedPaths[i][0] = '\0';
-            gStagedState[i].store(0);
+        if (n->state.load() == 2 && std::strcmp(n->path, path.c_str()) == 0 && n->state.compare_exchange_strong(expected, 1)) {
+            n->path[0] = '\0';
+            n->state.store(0);
             return;
         }
     }
 }
 
 extern "C" void removeStagedAndDie(int signal) {
-    for (int i = 0; i < kStagedSlots; ++i) {
-        if (gStagedState[i].load() == 2) ::unlink(gStagedPaths[i]);
+    for (StagedNode* n = gStagedHead.load(); n; n = n->next) {
+        if (n->state.load() == 2) ::unlink(n->path);
     }
     // SA_RESETHAND restored the default action: the signal, re-raised, kills the process once this
     // handler returns (it is blocked until then), so the exit status says which signal it was.
@@ -261,6 +334,35 @@ extern "C" void removeStagedAndDie(int signal) {
 }
 
 }  // namespace
+
+size_t stagedTemporaryCount() {
+    size_t n = 0;
+    for (StagedNode* node = gStagedHead.load(); node; node = node->next) n += node->state.load() == 2;
+    return n;
+}
+
+void checkOutputWritable(const std::string& finalPath) {
+    // Tried, not asked (access() says yes to root in a read-only place): the temporary this path is
+    // staged as is created and removed again, so a folder that cannot take the output is an input
+    // error naming the user's path before any work, not "internal error" naming the temporary after.
+    // Registered while it exists, so a signal in between removes it too.
+    const std::string temporary = finalPath + ".tmp-" + std::to_string(static_cast<long long>(::getpid()));
+    registerStaged(temporary);
+    struct Unregister {
+        const std::string& path;
+        ~Unregister() { unregisterStaged(path); }
+    } unregister{temporary};
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0) {
+        const int error = errno;
+        if (error == EEXIST) return;  // staged already by this process
+        std::string folder = std::filesystem::path(finalPath).parent_path().string();
+        if (folder.empty()) folder = ".";
+        throw InputError(finalPath + ": cannot write the output in the folder '" + folder + "': " + std::strerror(error));
+    }
+    ::close(fd);
+    ::unlink(temporary.c_str());
+}
 
 void removeStagedOutputsOnSignals() {
     struct sigaction action {};
@@ -287,6 +389,7 @@ std::string OutputSet::stage(const std::string& finalPath) {
     for (const auto& [temporary, staged] : staged_) {
         if (staged == finalPath) return temporary;
     }
+    checkOutputWritable(finalPath);
     std::string temporary = finalPath + ".tmp-" + std::to_string(static_cast<long long>(::getpid()));
     staged_.emplace_back(temporary, finalPath);
     registerStaged(temporary);
@@ -294,12 +397,20 @@ std::string OutputSet::stage(const std::string& finalPath) {
 }
 
 void OutputSet::commit() {
-    // Check first that every output was written, so a missing file renames nothing.
+    // Check first that every output was written and that every final path can take a file, so a
+    // missing file or a folder where a sidecar goes renames nothing (the PNG and PFM stayed while
+    // the command exited 2).
     for (const auto& [temporary, finalPath] : staged_) {
         std::error_code error;
         if (!std::filesystem::is_regular_file(temporary, error)) {
             throw InternalError(finalPath + ": output was staged but never written (" + temporary + ")");
         }
+        const std::filesystem::file_status status = std::filesystem::symlink_status(finalPath, error);
+        if (std::filesystem::is_directory(status))
+            throw InputError(finalPath + ": is a folder, expected a file path (nothing was written)");
+        if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) && !std::filesystem::is_symlink(status))
+            throw InputError(finalPath + ": is not a regular file (a FIFO, a device or a socket), expected a file path "
+                                         "(nothing was written)");
     }
     for (const auto& [temporary, finalPath] : staged_) {
         std::error_code error;

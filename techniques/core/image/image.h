@@ -35,7 +35,8 @@ void writePNG(const std::string& path, const Image& image);
 // final name only by commit(). If the object is destroyed without commit() (an error was thrown
 // half-way), the temporaries are deleted, so a failed command leaves no partial output file. After
 // removeStagedOutputsOnSignals(), SIGINT and SIGTERM delete them too before the process dies of
-// the signal (the first 64 staged paths of the process at any time; paths under 4 KB).
+// the signal (every staged path, however many; stage() first checks that the folder takes the file:
+// checkOutputWritable).
 class OutputSet {
 public:
     OutputSet() = default;
@@ -50,6 +51,12 @@ private:
     std::vector<std::pair<std::string, std::string>> staged_;  // (temporary, final)
     bool committed_ = false;
 };
+
+// InputError "<finalPath>: cannot write the output in the folder '<folder>': <reason>" unless a file
+// can be created beside finalPath (tried by creating and removing its temporary).
+void checkOutputWritable(const std::string& finalPath);
+// The temporaries staged and not yet committed or removed, in the whole process (tests).
+size_t stagedTemporaryCount();
 
 // Installs SIGINT and SIGTERM handlers that unlink every staged temporary of every live OutputSet
 // (async-signal-safe), then let the signal kill the process as it would have.

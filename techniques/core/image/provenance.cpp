@@ -62,7 +62,7 @@ void writePfmWithSidecar(OutputSet& outputs, const std::string& path, const Imag
     writePFM(outputs.stage(path), image);
     const std::string sidecar = sidecarPath(path);
     std::ofstream out(outputs.stage(sidecar), std::ios::binary);
-    out << provenance.dump(2) << "\n";
+    out << provenance.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     out.flush();
     if (!out) throw InternalError("cannot write " + sidecar);
 }

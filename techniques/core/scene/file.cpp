@@ -12,6 +12,7 @@
 #include <map>
 
 #include "error.h"
+#include "scene/input_file.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
 
@@ -481,15 +482,11 @@ Scene loadScene(const std::string& nameOrPath, const SceneLimits& limits) {
     };
     if (endsWith(".gltf") || endsWith(".glb")) return sceneAroundGltf(nameOrPath, limits);
     const std::string path = resolveScenePath(nameOrPath);
-    std::error_code ec;
-    const uintmax_t bytes = fs::file_size(path, ec);
-    if (!ec && bytes == 0) throw InputError(path + ": the file is empty, expected a JSON scene object");
-    // 256 MB of JSON is far beyond any scene (geometry comes from primitives, generators, glTF).
-    if (!ec && bytes > (uintmax_t(256) << 20)) {
-        throw InputError(path + ": the scene file is " + describeBytes(double(bytes)) +
-                         ", over the 268 MB a scene file may have (put geometry in a glTF file)");
-    }
-    const JsonDocument document = JsonDocument::fromFile(path, "scene file");
+    // Through the input gate (scene/input_file.h): a regular file of at most 256 MB (far beyond any
+    // scene: geometry comes from primitives, generators and glTF), opened once.
+    const std::string text = readInputFile(path, "scene file", kMaxSceneInputBytes);
+    if (text.empty()) throw InputError(path + ": the file is empty, expected a JSON scene object");
+    const JsonDocument document = JsonDocument::fromString(path, text);
     // Messages name the file, the line and the field path ("scene.json:12: objects[2].size[1]: ...").
     const JsonReader reader(document, JsonReader::Lines::Named);
     return readScene(reader, document.root(), path, limits);

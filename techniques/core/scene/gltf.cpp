@@ -18,6 +18,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "error.h"
+#include "scene/input_file.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
 
@@ -42,36 +43,17 @@ bool fileExists(const std::string& path, void*) {
 std::string expandPath(const std::string& path, void*) { return path; }
 
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (ec || !fs::exists(status)) {
-        if (err) *err += "no such file";
+    // The input gate (scene/input_file.h): a regular file under 2 GiB (beyond what a buffer's
+    // byteLength can use), opened once; the reason goes after tinygltf's "File read error : <path> : ".
+    try {
+        *out = readInputBytes(path, "glTF buffer", kMaxGltfInputBytes);
+        return true;
+    } catch (const InputError& e) {
+        const std::string message = e.what();
+        const std::string head = path + ": cannot read the glTF buffer: ";
+        if (err) *err += message.rfind(head, 0) == 0 ? message.substr(head.size()) : message;
         return false;
     }
-    if (fs::is_directory(status)) {
-        if (err) *err += "is a directory, expected a file";
-        return false;
-    }
-    if (!fs::is_regular_file(status)) {
-        if (err) *err += "is not a regular file";
-        return false;
-    }
-    const uintmax_t size = fs::file_size(path, ec);
-    // 2 GiB: beyond what a glTF buffer's byteLength (and this loader's limits) can use.
-    constexpr uintmax_t kMaxFile = uintmax_t(1) << 31;
-    if (ec || size > kMaxFile) {
-        if (err) *err += "is larger than 2 GiB";
-        return false;
-    }
-    std::ifstream in(path, std::ios::binary);
-    out->resize(static_cast<size_t>(size));
-    if (size > 0) in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size));
-    if (!in) {
-        if (err) *err += "cannot be read";
-        return false;
-    }
-    return true;
 }
 
 bool writeWholeFile(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
@@ -519,10 +501,7 @@ namespace {
 void parseGltf(const std::string& path, tinygltf::Model& model) {
     namespace fs = std::filesystem;
     std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (ec || !fs::exists(status)) throw InputError(path + ": no such glTF file");
-    if (fs::is_directory(status)) throw InputError(path + ": is a directory, expected a .gltf or .glb file");
-    if (!fs::is_regular_file(status)) throw InputError(path + ": is not a regular file, expected a .gltf or .glb file");
+    if (!fs::exists(fs::symlink_status(path, ec))) throw InputError(path + ": no such glTF file");
     std::string extension = fs::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -530,6 +509,10 @@ void parseGltf(const std::string& path, tinygltf::Model& model) {
         throw InputError(path + ": expected a .gltf or .glb file, got extension '" + extension +
                          "'");
     }
+    // The input gate: a regular file under 2 GiB, opened once, read whole; tinygltf parses the bytes.
+    const std::vector<unsigned char> bytes = readInputBytes(path, "glTF file", kMaxGltfInputBytes);
+    if (bytes.empty()) throw InputError(path + ": cannot read glTF: Empty file.");
+    const std::string baseDir = fs::path(path).parent_path().string();
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(ignoreImage, nullptr);
@@ -537,8 +520,10 @@ void parseGltf(const std::string& path, tinygltf::Model& model) {
     std::string err, warn;
     bool ok = false;
     try {
-        ok = extension == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                 : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+        ok = extension == ".glb"
+                 ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), baseDir)
+                 : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                              unsigned(bytes.size()), baseDir);
     } catch (const std::exception& e) {
         err = e.what();
         ok = false;
