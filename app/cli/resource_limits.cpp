@@ -33,7 +33,11 @@ double estimateRenderBytes(const Scene& scene, const RenderOptions& options) {
     // Each light's technique: the resources its passes declare at these parameters (shadow maps,
     // pyramids, light-space buffers, per-pixel textures), as the pool will allocate them.
     for (size_t i = 0; i < lights; ++i) {
-        const Light& light = scene.lights[i];
+        Light light = scene.lights[i];  // with --light-size applied as the renderer applies it
+        if (options.lightSize) {
+            light.size = *options.lightSize;
+            if (*options.lightSize == 0.0f) light.shape = LightShape::Point;
+        }
         const std::string id = !options.technique.empty() ? options.technique
                                : !light.technique.empty() ? light.technique
                                                           : "hard";
@@ -42,9 +46,7 @@ double estimateRenderBytes(const Scene& scene, const RenderOptions& options) {
         ParamValues values(*requested);
         for (const auto& [key, value] : options.sets)
             if (requested->findParam(key)) values.set(*requested, key, value, "--set " + key + "=" + value);
-        bool point = light.isPoint();
-        if (options.lightSize) point = *options.lightSize == 0.0f;
-        const auto [desc, params] = techniqueForLight(*requested, values, point);
+        const auto [desc, params] = techniqueForLight(*requested, values, light.isPoint());
         bytes += techniqueResourceBytes(*desc, params, {options.width, options.height});
     }
     uint64_t triangles = 0;
