@@ -13,6 +13,7 @@ const TechniqueDesc& referenceTechnique();
 const TechniqueDesc& raytracedTechnique();
 const TechniqueDesc& ssvTechnique();
 const TechniqueDesc& spsmTechnique();
+const TechniqueDesc& pvmTechnique();
 
 const std::vector<const TechniqueDesc*>& allTechniques() {
     static const std::vector<const TechniqueDesc*> all = {
@@ -23,6 +24,7 @@ const std::vector<const TechniqueDesc*>& allTechniques() {
         &ssmGbp06Technique(),
         &ssmContourTechnique(),
         &ssvTechnique(),
+        &pvmTechnique(),
         &spsmTechnique(),
         &referenceTechnique(),
         &raytracedTechnique(),

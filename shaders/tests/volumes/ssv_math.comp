@@ -2,7 +2,7 @@
 // list of cases, compared with the same source compiled as C++ by SsvMathGpu.AgreesWithCpuOnAGrid
 // (tests/techniques/test_ssv.cpp).
 layout(local_size_x = 64) in;
-#include "../shared/soft_shadow_volumes.glsl"
+#include "../../shared/soft_shadow_volumes.glsl"
 
 struct Case {
     vec4 receiver;  // p.xyz (light frame), light shape (as a float)

@@ -1,0 +1,57 @@
+// `pvm`: penumbra volume maps (cournia2005 chapter 4). The CPU geometry the passes draw: the
+// silhouette loops from the light centre (the winged-edge silhouettes ssv uses, scene/mesh_topology.h),
+// each vertex's outer and inner extrusion vectors (sec. 4.1.2, shaders/shared/penumbra_volumes.glsl)
+// and per edge an outer and an inner volume quadrilateral. Public for the views and the tests: the
+// views draw exactly these quads, the GPU rasterizes exactly these quads.
+#pragma once
+#include <array>
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "graph/technique.h"
+#include "scene/scene.h"
+#include "ssv/ssv.h"
+
+namespace shadowlab {
+
+const TechniqueDesc& pvmTechnique();
+
+// One silhouette edge a -> b, clockwise seen from the light centre (the occluder on its right; the
+// orientation penumbra_volumes.glsl's formulas assume), with its neighbours in its loop and the
+// extrusion vectors at its two ends.
+struct PvmEdge {
+    glm::vec3 a{0.0f}, b{0.0f};
+    int object = 0;             // index into scene.objects
+    uint32_t topologyEdge = 0;
+    bool boundary = false;      // a boundary edge of an open mesh
+    int prev = -1, next = -1;   // the edges before and after it in its loop; -1: the end of an open chain
+    // The line of the edge passes through the light centre: it has no hard shadow plane and no
+    // volume (seen from the light it is a point); its neighbours extrude along their own planes.
+    bool degenerate = false;
+    glm::vec3 outerA{0.0f}, outerB{0.0f};  // v^- at a and b (unit)
+    glm::vec3 innerA{0.0f}, innerB{0.0f};  // v^+ at a and b (unit)
+};
+
+struct PvmGeometry {
+    std::vector<PvmEdge> edges;
+    std::vector<std::string> warnings;  // non-manifold objects, named
+    size_t chainEnds = 0;       // edge ends without a neighbour (open silhouette chains)
+    size_t branchVertices = 0;  // vertices with more than one silhouette edge leaving them (paired in edge order)
+    size_t degenerateEdges = 0;
+};
+
+// Silhouette loops and extrusion vectors of the casters posed at time t, for a light centred at l
+// with radius r (pvmLightRadius).
+PvmGeometry buildPvmGeometry(const Scene& scene, const std::vector<SsvCaster>& casters, double t, const glm::vec3& l,
+                             float r);
+
+// The volume quadrilateral of an edge on one side (PVM_OUTER or PVM_INNER): a, a + w v_a, b + w v_b,
+// b (sec. 4.1.2), w putting the extruded points beyond every receiver.
+std::array<glm::vec3, 4> pvmQuad(const PvmEdge& edge, float side, float w);
+
+// The extrusion length w for a scene: twice the distance from the light centre to the farthest
+// corner of the bounds, so that a + w v (v unit, pointing away from the light) lies outside them.
+float pvmExtrusionLength(const Bounds& bounds, const glm::vec3& l);
+
+}  // namespace shadowlab
