@@ -14,6 +14,7 @@ const TechniqueDesc& raytracedTechnique();
 const TechniqueDesc& ssvTechnique();
 const TechniqueDesc& spsmTechnique();
 const TechniqueDesc& pvmTechnique();
+const TechniqueDesc& pvmfTechnique();
 
 const std::vector<const TechniqueDesc*>& allTechniques() {
     static const std::vector<const TechniqueDesc*> all = {
@@ -25,6 +26,7 @@ const std::vector<const TechniqueDesc*>& allTechniques() {
         &ssmContourTechnique(),
         &ssvTechnique(),
         &pvmTechnique(),
+        &pvmfTechnique(),
         &spsmTechnique(),
         &referenceTechnique(),
         &raytracedTechnique(),

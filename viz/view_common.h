@@ -27,6 +27,8 @@ class vtkRenderer;
 class vtkActor2D;
 class vtkTextActor;
 class vtkScalarBarActor;
+class vtkPoints;
+class vtkCellArray;
 
 namespace shadowlab {
 
@@ -161,6 +163,33 @@ struct WorldTriangle {
     int object;
 };
 std::vector<WorldTriangle> worldTriangles(const Scene& scene, double t, bool castersOnly);
+
+// ---- the 3D volume views (wedges, penumbra-volumes) --------------------------------------------------
+// A distinct colour per silhouette edge: hues a golden angle apart, saturated and bright.
+glm::vec3 edgeColour(int edge);
+// The light's outline in world space (a square's four sides, a disk's or sphere's circle of 64
+// segments in the light's plane); none for a point light.
+std::vector<std::pair<glm::vec3, glm::vec3>> lightOutlineSegments(const Light& light);
+// Lines and triangles with the volume views' cell arrays: part, edge, face, holds_pixel and an RGBA
+// colour (alpha, so translucent parts blend). VTK orders lines before polys in the cell data.
+struct ViewCells {
+    struct Attributes {
+        int part, edge, face, holds;
+        std::array<unsigned char, 4> rgba;
+    };
+    ViewCells();
+    static std::array<unsigned char, 4> bytes(glm::vec3 c, float alpha);
+    void line(glm::vec3 a, glm::vec3 b, Attributes at);
+    void triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, Attributes at);
+    vtkSmartPointer<vtkPolyData> data();
+
+    vtkSmartPointer<vtkPoints> points;
+    vtkSmartPointer<vtkCellArray> lines, polys;
+    std::vector<Attributes> lineAttributes, polyAttributes;
+};
+// An actor colouring cells by their "colour" array; `blend`: drawn after the opaque parts with GL
+// blending (VTK's translucent pass blits a depth buffer the offscreen frame cannot give it).
+vtkSmartPointer<vtkActor> cellsActor(vtkPolyData* data, float lineWidth, bool lit, bool blend);
 
 // The 3D views' camera: the scene camera's view, orbited by azimuth and elevation (degrees), at a
 // 30 degree view angle (the caller fits it to what it draws).

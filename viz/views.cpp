@@ -40,7 +40,7 @@
 namespace shadowlab {
 
 // ---- the registry: one line per view; the view's own file defines the function ---------------------
-#define SHADOWLAB_VIEWS(X) X(scene3dView) X(shadowMapView) X(internalView) X(errorView) X(kernelSizeView) X(reuseView) X(backprojectionView) X(hsmView) X(wedgesView) X(pullPushView) X(skippedPixelsView) X(spsmTexelsView)
+#define SHADOWLAB_VIEWS(X) X(scene3dView) X(shadowMapView) X(internalView) X(errorView) X(kernelSizeView) X(reuseView) X(backprojectionView) X(hsmView) X(wedgesView) X(penumbraVolumesView) X(pullPushView) X(skippedPixelsView) X(spsmTexelsView)
 
 #define SHADOWLAB_DECLARE_VIEW(fn) const ViewDesc& fn();
 SHADOWLAB_VIEWS(SHADOWLAB_DECLARE_VIEW)

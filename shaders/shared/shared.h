@@ -15,6 +15,7 @@ using uint = std::uint32_t;
 #include "shared/discontinuity.glsl"
 #include "shared/light_sampling.glsl"
 #include "shared/penumbra.glsl"
+#include "shared/penumbra_mask.glsl"
 #include "shared/penumbra_volumes.glsl"
 #include "shared/pull_push.glsl"
 #include "shared/screen_selection.glsl"

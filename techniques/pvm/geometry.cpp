@@ -26,6 +26,15 @@ std::array<glm::vec3, 4> pvmQuad(const PvmEdge& e, float side, float w) {
     return {e.a, e.a + w * va, e.b + w * vb, e.b};
 }
 
+std::array<glm::vec3, 4> pvmfQuad(const PvmEdge& e, const glm::vec3& l, float r, float se, float side, float w) {
+    const float de = shared::pvmfEdgeDistance(e.a, e.b, l);
+    const glm::vec3 a = shared::pvmfMovedPoint(e.a, de, l, se), b = shared::pvmfMovedPoint(e.b, de, l, se);
+    const glm::vec3 n = shared::pvmPlaneNormal(e.a, e.b, l);
+    const glm::vec3 va = shared::pvmfExtrusion(a, a, b, n, l, r, shared::PVMF_START, side);
+    const glm::vec3 vb = shared::pvmfExtrusion(b, a, b, n, l, r, shared::PVMF_END, side);
+    return {a, a + w * va, b + w * vb, b};
+}
+
 PvmGeometry buildPvmGeometry(const Scene& scene, const std::vector<SsvCaster>& casters, double t, const glm::vec3& l,
                              float r) {
     PvmGeometry g;

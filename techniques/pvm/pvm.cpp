@@ -8,6 +8,7 @@
 //  4. visibility: Listing 4.2 per pixel (sec. 4.2), with the shared math of
 //     shaders/shared/penumbra_volumes.glsl.
 #include "pvm/pvm.h"
+#include "pvm/volume_draw.h"
 
 #include <cfloat>
 #include <cstdio>
@@ -117,24 +118,15 @@ public:
         const MeshData& lines = ctx.mesh("silhouettes");
         const std::vector<float>& edgeOf = volumes.primitiveAttributes[0].second;
         const std::vector<float>& side = volumes.primitiveAttributes[1].second;
-        scratch_.clear();
-        scratch_.reserve(volumes.indices.size() * 3);
+        std::vector<glm::vec4>& vertices = draw_.begin(volumes.indices.size());
         for (size_t i = 0; i < volumes.indices.size(); ++i) {
             const size_t tri = i / 3;
             const size_t edge = size_t(edgeOf[tri]);
             const glm::vec3 h0 = lines.positions[lines.indices[2 * edge]], h1 = lines.positions[lines.indices[2 * edge + 1]];
-            scratch_.push_back(glm::vec4(volumes.positions[volumes.indices[i]], 1.0f));
-            scratch_.push_back(glm::vec4(h0, edgeOf[tri]));
-            scratch_.push_back(glm::vec4(h1, side[tri]));
+            vertices.push_back(glm::vec4(volumes.positions[volumes.indices[i]], 1.0f));
+            vertices.push_back(glm::vec4(h0, edgeOf[tri]));
+            vertices.push_back(glm::vec4(h1, side[tri]));
         }
-        const size_t bytes = std::max<size_t>(48, scratch_.size() * sizeof(glm::vec4));
-        if (buffer_.bytes() < bytes) {
-            buffer_ = Buffer(bytes * 2);
-            vao_.bindVertexBuffer(0, buffer_, 0, 3 * sizeof(glm::vec4));
-            for (GLuint a = 0; a < 3; ++a) vao_.attribute(a, 0, 4, GL_FLOAT, a * GLuint(sizeof(glm::vec4)));
-        }
-        if (!scratch_.empty()) buffer_.upload(scratch_.data(), scratch_.size() * sizeof(glm::vec4));
-
         const int size = depth.width();
         fbo_.bind(size, size);
         const float none = FLT_MAX, zero[4] = {0, 0, 0, 0}, depthClear = 0.0f;
@@ -142,24 +134,14 @@ public:
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 2, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &depthClear);
-        if (!scratch_.empty()) {
-            const ShaderProgram& program = ctx.programs().get("pvm/volume.vert", "pvm/volume.frag");
-            program.use();
-            program.set("lightViewFromWorld", ctx.lightView().viewFromWorld);
-            program.set("lightClipFromView", ctx.lightView().clipFromView);
-            vao_.bind();
-            glDrawArrays(GL_TRIANGLES, 0, GLsizei(scratch_.size() / 3));
-            glBindVertexArray(0);
-        }
+        draw_.draw(ctx, "pvm/volume.frag");
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
 private:
     Framebuffer fbo_;
     glm::uvec4 fboKey_{0u};
-    Buffer buffer_;
-    VertexArray vao_;
-    std::vector<glm::vec4> scratch_;
+    VolumeDraw draw_;
 };
 
 // ---- 4. visibility (Listing 4.2) ------------------------------------------------------------------

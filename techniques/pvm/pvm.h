@@ -50,6 +50,11 @@ PvmGeometry buildPvmGeometry(const Scene& scene, const std::vector<SsvCaster>& c
 // b (sec. 4.1.2), w putting the extruded points beyond every receiver.
 std::array<glm::vec3, 4> pvmQuad(const PvmEdge& edge, float side, float w);
 
+// pvmf's simplified volume of an edge on one side (cournia2005 sec. 5.1, shaders/shared/penumbra_mask.glsl):
+// the end points moved towards the light by s_e d_e, e^0, e^0 + w v_0, e^1 + w v_1, e^1, for a light of
+// radius r centred at l. Independent of the edge's neighbours.
+std::array<glm::vec3, 4> pvmfQuad(const PvmEdge& edge, const glm::vec3& l, float r, float se, float side, float w);
+
 // The extrusion length w for a scene: twice the distance from the light centre to the farthest
 // corner of the bounds, so that a + w v (v unit, pointing away from the light) lies outside them.
 float pvmExtrusionLength(const Bounds& bounds, const glm::vec3& l);

@@ -19,6 +19,7 @@
 #include "shared/shared.h"
 #include "support/gl_fixture.h"
 #include "support/mesh_scenes.h"
+#include "support/volume_tests.h"
 #include "scene/light_view.h"
 
 namespace shadowlab {
@@ -324,30 +325,8 @@ TEST_F(PvmMathGpu, AgreesWithCpuOnAGrid) {
 
 // ---- renders -----------------------------------------------------------------------------------------
 
-Image renderVisibility(const Scene& scene, const std::string& technique, int size,
-                       std::vector<std::pair<std::string, std::string>> sets = {}, std::optional<float> lightSize = {}) {
-    RenderOptions options;
-    options.width = options.height = size;
-    options.technique = technique;
-    options.sets = std::move(sets);
-    options.lightSize = lightSize;
-    Renderer renderer(scene, options);
-    renderer.renderFrame(0, {"visibility"});
-    return renderer.visibility();
-}
-
-double rmse(const Image& a, const Image& b, const std::function<bool(int, int)>& inside = {}) {
-    double sq = 0.0;
-    size_t n = 0;
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x) {
-            if (inside && !inside(x, y)) continue;
-            const double d = double(a.at(x, y)) - b.at(x, y);
-            sq += d * d;
-            ++n;
-        }
-    return n ? std::sqrt(sq / double(n)) : INFINITY;
-}
+using volume_tests::renderVisibility;
+using volume_tests::rmse;
 
 class PvmRender : public GLTest {};
 
@@ -432,20 +411,7 @@ TEST_F(PvmRender, PixelRecordsAgreeWithTheImage) {
     EXPECT_GT(outside, 50);
 }
 
-// Ray-triangle intersection: the distance along the ray, or +inf.
-float hit(const glm::vec3& o, const glm::vec3& d, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
-    const glm::vec3 e1 = b - a, e2 = c - a, h = glm::cross(d, e2);
-    const float det = glm::dot(e1, h);
-    if (std::abs(det) < 1e-12f) return INFINITY;
-    const glm::vec3 s = o - a;
-    const float u = glm::dot(s, h) / det;
-    if (u < 0.0f || u > 1.0f) return INFINITY;
-    const glm::vec3 q = glm::cross(s, e1);
-    const float v = glm::dot(d, q) / det;
-    if (v < 0.0f || u + v > 1.0f) return INFINITY;
-    const float t = glm::dot(e2, q) / det;
-    return t > 0.0f ? t : INFINITY;
-}
+using volume_tests::hit;
 
 // The volumes exported (`--internals`: penumbra_volumes, the quads the GPU drew) ray-cast on the CPU
 // from the light through every PVDM texel centre give the PVDM: the nearest volume's light-view

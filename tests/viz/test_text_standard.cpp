@@ -107,6 +107,7 @@ TEST_F(TextStandard, EveryViewAtTwoSizesKeepsTheTextStandard) {
         {"reuse", "sssm", false},       {"backprojection", "ssm-contour", true},
         {"backprojection", "ssm-gbp06", true}, {"hsm", "ssm-contour", true},
         {"backprojection", "ssv", true},       {"wedges", "ssv", false},        {"wedges", "ssv", true},
+        {"penumbra-volumes", "pvm", true}, {"penumbra-volumes", "pvmf", true}, {"penumbra-volumes", "pvmf", false},
         {"skipped-pixels", "ssm-contour", false}, {"pull-push", "ssm-contour", false},
         {"spsm-texels", "spsm", true},
     };

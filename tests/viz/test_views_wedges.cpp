@@ -1,4 +1,4 @@
-// The `wedges` view (viz/view_wedges.cpp) on ssv: it draws exactly the meshes the technique drew
+// The `wedges` view (viz/view_volumes.cpp) on ssv: it draws exactly the meshes the technique drew
 // (its export holds the `silhouettes` and `wedges` internals' geometry, point for point), the
 // wedges it marks as holding the picked pixel are the per-pixel record's and each holds the point
 // (its exported triangles' planes), and techniques without wedges are refused.

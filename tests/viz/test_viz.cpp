@@ -278,7 +278,7 @@ TEST_F(VizViewTest, ListsTheViewsWithTheirRules) {
         EXPECT_FALSE(v.appliesTo.empty());
         EXPECT_TRUE(v.exportExtension == ".vtp" || v.exportExtension == ".vti") << v.name;
     }
-    EXPECT_EQ(names, (std::vector<std::string>{"scene3d", "shadow-map", "internal", "error", "kernel-size", "reuse", "backprojection", "hsm", "wedges", "pull-push", "skipped-pixels", "spsm-texels"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"scene3d", "shadow-map", "internal", "error", "kernel-size", "reuse", "backprojection", "hsm", "wedges", "penumbra-volumes", "pull-push", "skipped-pixels", "spsm-texels"}));
 }
 
 // scene3d: the rays from the picked point are the raytraced reference's samples, tested by an

@@ -643,6 +643,12 @@ std::vector<std::string> Renderer::checkReuse() {
             } else if (r->desc.kind == ResourceKind::StorageBuffer) {
                 std::vector<float> v(r->bufferBytes / 4);
                 glGetNamedBufferSubData(r->buffer, 0, GLsizeiptr(v.size() * 4), v.data());
+                if (r->desc.unordered) {
+                    std::vector<uint32_t> words(v.size());
+                    std::memcpy(words.data(), v.data(), v.size() * 4);
+                    std::sort(words.begin(), words.end());
+                    std::memcpy(v.data(), words.data(), v.size() * 4);
+                }
                 out[name] = v;
             } else {
                 for (int level = 0; level < r->texture.levels(); ++level) {

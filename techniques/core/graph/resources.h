@@ -46,6 +46,10 @@ struct ResourceDesc {
     std::string doc;
     std::string appliesWhen;  // "" = always; a condition on the technique's parameters
     GLenum filter = GL_NEAREST;
+    // StorageBuffer: an append list whose order is the GPU's (an atomic counter hands out the
+    // slots), read by passes whose result does not depend on it; --check-reuse compares it as a
+    // multiset of 32-bit words.
+    bool unordered = false;
 
     static ResourceDesc texture(const std::string& name, Format format, SizeRule size, const std::string& doc) {
         ResourceDesc d;
