@@ -74,6 +74,9 @@ struct Measurement {
     std::string clock;
     double shadowMs = 0.0, fixedMs = 0.0, totalMs = 0.0;
     std::map<std::string, double> passMs;  // "<technique>/<pass>" and "gbuffer", "shade"; summed over lights
+    // Light 0's counters (`render --stats`' lights[0].counters), "<counter>.<field>" for each number:
+    // what the technique restricted its work to (pvmf's mask.masked_fraction, ...).
+    std::map<std::string, double> counters;
     Metrics all, penumbra;
     size_t techniqueBytes = 0;  // GPU memory of the technique's resources (all lights)
     size_t memoryBytes = 0;     // all GPU memory of the render (frame buffers and scene too)
@@ -124,11 +127,20 @@ struct PaperSpec {
     bool present = false;
 };
 
+// A scene as a bench measures it: its camera moved along the line of sight to `distance` times its
+// distance from the target (the far plane moved out with it), and its label in the rows: the name,
+// with " camera Dx" when the spec has distances other than 1.
+Scene benchScene(const Scene& scene, double distance);
+std::string benchSceneLabel(const std::string& name, double distance, const std::vector<double>& distances);
+
 struct BenchSpec {
     std::string file;  // "" when built from flags
     std::string name, title, reproduces;
     std::vector<std::string> scenes;
     std::vector<std::optional<float>> lightSizes = {std::nullopt};  // nullopt = the scene's own
+    // Each scene's camera moved along its line of sight to this many times its distance from the
+    // target (1: as in the scene); one row per scene x distance x light size x setting.
+    std::vector<double> cameraDistances = {1.0};
     int width = 256, height = 256;
     int frames = 5, warmup = 2;
     ReferenceSpec reference;

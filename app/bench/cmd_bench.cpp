@@ -185,7 +185,14 @@ int commandBench(const std::vector<std::string>& args) {
     for (const RunSpec& run : spec.runs)
         for (const Setting& s : run.settings()) settings.push_back(s);
     std::vector<Scene> scenes;
-    for (const std::string& s : spec.scenes) scenes.push_back(loadScene(s));
+    std::vector<std::string> labels;  // the rows' scene column
+    for (const std::string& s : spec.scenes) {
+        const Scene base = loadScene(s);
+        for (double d : spec.cameraDistances) {
+            scenes.push_back(benchScene(base, d));
+            labels.push_back(benchSceneLabel(s, d, spec.cameraDistances));
+        }
+    }
     const size_t total = scenes.size() * spec.lightSizes.size() * settings.size();
     // The memory estimate `render` applies, for every render the bench makes (each setting and the
     // reference, on each scene), before the first: an 8192x8192 bench allocated first.
@@ -205,7 +212,7 @@ int commandBench(const std::vector<std::string>& args) {
             try {
                 checkRenderMemory(scenes[si], options, opts);
             } catch (const InputError& e) {
-                throw InputError("bench: " + spec.scenes[si] + ", " + what + ": " + e.what());
+                throw InputError("bench: " + labels[si] + ", " + what + ": " + e.what());
             }
         }
     }
@@ -226,7 +233,7 @@ int commandBench(const std::vector<std::string>& args) {
         for (const std::optional<float>& lightSize : spec.lightSizes) {
             CachedReference ref = cachedReference(scenes[si], spec.width, spec.height, lightSize, spec.reference, cacheDir,
                                                   context->renderer());
-            references.push_back({{"scene", spec.scenes[si]},
+            references.push_back({{"scene", labels[si]},
                                   {"light_size", lightSize ? nlohmann::json(*lightSize) : nlohmann::json("scene")},
                                   {"path", ref.path},
                                   {"cache_key", ref.key},
@@ -234,11 +241,11 @@ int commandBench(const std::vector<std::string>& args) {
                                   {"cache_hit", ref.hit}});
             if (!quiet)
                 std::fprintf(stderr, "bench: reference %s for %s (light %s): %s\n", spec.reference.describe().c_str(),
-                             spec.scenes[si].c_str(), lightSize ? fmt("%g", *lightSize).c_str() : "as in the scene",
+                             labels[si].c_str(), lightSize ? fmt("%g", *lightSize).c_str() : "as in the scene",
                              ref.hit ? ("cached, key " + ref.key).c_str()
                                      : ("computed in " + fmt("%.1f", ref.computeMs / 1000.0) + " s, cached as " + ref.path).c_str());
             for (const Setting& setting : settings) {
-                Measurement m = measureSetting(scenes[si], spec.scenes[si], spec.width, spec.height, lightSize, setting,
+                Measurement m = measureSetting(scenes[si], labels[si], spec.width, spec.height, lightSize, setting,
                                                spec.frames, spec.warmup, &ref.visibility, context->isSoftwareRasterizer());
                 m.referenceKey = ref.key;
                 m.referenceDesc = spec.reference.describe();
@@ -249,7 +256,7 @@ int commandBench(const std::vector<std::string>& args) {
                     double seconds = elapsed();
                     double left = seconds / double(done) * double(total - done);
                     std::fprintf(stderr, "bench: [%zu/%zu] %s %s %s: shadow %.2f ms, RMSE %.4f  (%.0f s elapsed, about %.0f s left)\n",
-                                 done, total, spec.scenes[si].c_str(), setting.technique.c_str(),
+                                 done, total, labels[si].c_str(), setting.technique.c_str(),
                                  setting.describe().c_str(), m.shadowMs, m.all.rmse, seconds, left);
                 }
                 rows.push_back(std::move(m));

@@ -244,6 +244,13 @@ Measurement measureSetting(const Scene& scene, const std::string& sceneName, int
             const double f = own(k, "clamped_fraction").get<double>();
             m.kernelClampedFraction = std::isnan(m.kernelClampedFraction) ? f : std::max(m.kernelClampedFraction, f);
         }
+    const nlohmann::json& statLights = own(stats, "lights");
+    const auto counters = statLights.empty() ? statLights.end() : statLights.front().find("counters");
+    if (!statLights.empty() && counters != statLights.front().end() && counters->is_object())
+        for (const auto& [counter, fields] : counters->items())
+            if (fields.is_object())
+                for (const auto& [field, v] : fields.items())
+                    if (v.is_number()) m.counters[counter + "." + field] = v.get<double>();
     m.visibility = renderer.visibility();
     m.image = renderer.image();
     m.ids = renderer.ids();

@@ -72,6 +72,12 @@ std::vector<std::string> csvColumns(const std::vector<Measurement>& rows) {
         for (const auto& [name, v] : m.passMs)
             if (std::find(passes.begin(), passes.end(), name) == passes.end()) passes.push_back(name);
     for (const std::string& p : passes) columns.push_back("ms." + p);
+    // Counter columns: light 0's counters, in the order seen (empty where a row has none).
+    std::vector<std::string> counters;
+    for (const Measurement& m : rows)
+        for (const auto& [name, v] : m.counters)
+            if (std::find(counters.begin(), counters.end(), name) == counters.end()) counters.push_back(name);
+    for (const std::string& c : counters) columns.push_back("counter." + c);
     return columns;
 }
 
@@ -104,6 +110,10 @@ std::optional<double> numericValue(const Measurement& m, const std::string& c) {
     if (c.rfind("ms.", 0) == 0) {
         auto it = m.passMs.find(c.substr(3));
         if (it != m.passMs.end()) return it->second;
+    }
+    if (c.rfind("counter.", 0) == 0) {
+        auto it = m.counters.find(c.substr(8));
+        if (it != m.counters.end()) return it->second;
     }
     return std::nullopt;
 }

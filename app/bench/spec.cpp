@@ -72,13 +72,15 @@ double RunSpec::settingCount() const {
 double benchSettingCount(const BenchSpec& spec) {
     double perScene = 0.0;
     for (const RunSpec& run : spec.runs) perScene = std::min(1e300, perScene + run.settingCount());
-    return std::min(1e300, perScene * double(spec.scenes.size()) * double(spec.lightSizes.size()));
+    return std::min(1e300, perScene * double(spec.scenes.size()) * double(spec.lightSizes.size()) *
+                               double(spec.cameraDistances.size()));
 }
 
 void checkBenchSettingCount(const BenchSpec& spec, double maxSettings, const std::string& where) {
     const double n = benchSettingCount(spec);
-    const std::string made = std::to_string(spec.scenes.size()) + " scene(s) x " + std::to_string(spec.lightSizes.size()) +
-                             " light size(s) x the runs' sweeps";
+    const std::string made = std::to_string(spec.scenes.size()) + " scene(s) x " +
+                             std::to_string(spec.cameraDistances.size()) + " camera distance(s) x " +
+                             std::to_string(spec.lightSizes.size()) + " light size(s) x the runs' sweeps";
     if (n < 1.0) throw InputError(where + ": the bench would measure no setting (" + made + "), expected at least one");
     if (n > maxSettings)
         throw InputError(where + ": the bench would measure " + formatNumber(n) + " settings (" + made +
@@ -104,12 +106,27 @@ std::vector<std::string> expandRange(const std::string& text, const std::string&
     return out;
 }
 
+Scene benchScene(const Scene& scene, double distance) {
+    Scene s = scene;
+    if (distance == 1.0) return s;
+    const glm::vec3 target = s.camera.target, from = s.camera.position;
+    s.camera.position = target + float(distance) * (from - target);
+    const float reach = float(distance) * glm::length(from - target);
+    s.camera.farPlane = std::max(s.camera.farPlane, s.camera.farPlane - glm::length(from - target) + reach);
+    return s;
+}
+
+std::string benchSceneLabel(const std::string& name, double distance, const std::vector<double>& distances) {
+    if (distances.size() == 1 && distances[0] == 1.0) return name;
+    return name + " camera " + formatNumber(distance) + "x";
+}
+
 BenchSpec loadBenchSpec(const std::string& path, double maxSettings) {
     const JsonDocument doc = JsonDocument::fromFile(path, "bench spec");
     const JsonReader r(doc);
     const JsonFields top(r, doc.root(), "",
-                         {"name", "title", "reproduces", "scenes", "light_sizes", "size", "frames", "warmup",
-                          "reference", "runs", "chart", "paper"});
+                         {"name", "title", "reproduces", "scenes", "light_sizes", "camera_distances", "size",
+                          "frames", "warmup", "reference", "runs", "chart", "paper"});
     BenchSpec spec;
     spec.file = path;
     spec.name = top.string("name");
@@ -137,6 +154,18 @@ BenchSpec loadBenchSpec(const std::string& path, double maxSettings) {
                 spec.lightSizes.push_back(std::nullopt);
             else
                 spec.lightSizes.push_back(float(r.number((*ls)[i], p, inRange(0.0, 1e6))));
+        }
+    }
+    if (const json* cd = top.find("camera_distances")) {
+        if (!cd->is_array() || cd->empty())
+            r.fail("camera_distances", "a non-empty array of distances > 0 (times the scene camera's)", describeJson(*cd));
+        spec.cameraDistances.clear();
+        for (size_t i = 0; i < cd->size(); ++i) {
+            const std::string p = elementPath("camera_distances", i);
+            const double d = r.number((*cd)[i], p, inRange(1e-3, 1e3));
+            if (std::find(spec.cameraDistances.begin(), spec.cameraDistances.end(), d) != spec.cameraDistances.end())
+                r.fail(p, "distances that differ from one another", formatNumber(d) + " twice");
+            spec.cameraDistances.push_back(d);
         }
     }
     if (const json* size = top.find("size")) {

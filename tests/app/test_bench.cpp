@@ -230,6 +230,15 @@ TEST(Bench, BadSpecsAreRefusedWithFileAndField) {
          std::string(R"({"name": "x", "scenes": ["plant"], )") + kGoodRuns +
              R"(, "paper": {"citation": "c", "columns": {"T": "shadow_ms"}, "rows": [{"label": "a", "technique": "pcf", "params": {"pcf_kernel": 9}, "values": {"T": 1}}]}})",
          {"paper-row-not-run.json:1: paper.rows[0]", "no run of the spec has this setting"}},
+        {"bad-camera-distance.json",
+         std::string(R"({"name": "x", "scenes": ["plant"], "camera_distances": [1, -2], )") + kGoodRuns + "}",
+         {"bad-camera-distance.json:1: camera_distances[1]", "-2"}},
+        {"repeated-camera-distance.json",
+         std::string(R"({"name": "x", "scenes": ["plant"], "camera_distances": [2, 2], )") + kGoodRuns + "}",
+         {"repeated-camera-distance.json:1: camera_distances[1]", "differ"}},
+        {"empty-camera-distances.json",
+         std::string(R"({"name": "x", "scenes": ["plant"], "camera_distances": [], )") + kGoodRuns + "}",
+         {"empty-camera-distances.json:1: camera_distances", "non-empty array"}},
     };
     for (const Case& c : cases) {
         auto r = runSpec(c.name, c.text);
@@ -250,12 +259,37 @@ TEST(Bench, BadSpecsAreRefusedWithFileAndField) {
 TEST(Bench, ShippedSpecsLoad) {
     // quality-tiers and all-techniques parse and validate: the spec is read before the outputs are
     // checked, so a CSV in a missing folder is the first (and only) complaint.
-    for (const char* spec : {"quality-tiers", "all-techniques"}) {
+    for (const char* spec : {"quality-tiers", "all-techniques", "cournia2005"}) {
         auto r = run(std::string("bench --spec ") + spec + " --csv /nonexistent-folder/x.csv");
         EXPECT_EQ(r.code, 2) << r.output;
         EXPECT_NE(r.output.find("--csv: folder '/nonexistent-folder' does not exist"), std::string::npos)
             << spec << ": " << r.output;
     }
+}
+
+// camera_distances: one row per scene x distance, labelled "<scene> camera Dx"; light 0's counters
+// come out as counter.<counter>.<field> columns. pvmf lists fewer pixels as the camera moves away
+// (sec. 5.5's masked fraction) and its filter then runs on fewer pixels; the count is compared, not
+// the time (timings are a benchmark's, not a test's).
+TEST(Bench, CameraDistancesGiveOneRowEachAndTheCountersAreColumns) {
+    const std::string dir = testPath("bench", "camera");
+    fs::create_directories(dir);
+    const std::string path = dir + "/spec.json";
+    std::ofstream(path) << R"({"name": "cam", "scenes": ["sphere-light"], "camera_distances": [1, 4], "size": [96, 96],
+        "frames": 1, "warmup": 0, "reference": "raytraced:4", "runs": [{"technique": "pvmf"}, {"technique": "hard"}]})";
+    auto r = run("bench --spec " + path + " --csv " + dir + "/out.csv --cache " + dir + "/cache --quiet");
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::vector<std::string> header;
+    auto rows = readCsv(dir + "/out.csv", &header);
+    ASSERT_EQ(rows.size(), 4u);
+    EXPECT_EQ(rows[0]["scene"], "sphere-light camera 1x");
+    EXPECT_EQ(rows[2]["scene"], "sphere-light camera 4x");
+    EXPECT_NE(std::find(header.begin(), header.end(), "counter.mask.masked_fraction"), header.end());
+    EXPECT_EQ(rows[1]["counter.mask.masked_fraction"], "");  // hard has no mask counter
+    const double near = std::stod(rows[0]["counter.mask.listed_pixels"]);
+    const double far = std::stod(rows[2]["counter.mask.listed_pixels"]);
+    EXPECT_GT(near, 2.0 * far) << near << " " << far;
+    EXPECT_GT(std::stod(rows[0]["counter.mask.masked_fraction"]), std::stod(rows[2]["counter.mask.masked_fraction"]));
 }
 
 // ---- the chart in-process: the Pareto front and the window's highlighted setting -----------------
