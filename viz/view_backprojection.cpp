@@ -17,6 +17,12 @@
 //  - ssm-gbp06: each occluding sample is its quad (after gap filling) clipped to the light: the
 //    square's box or, for a disk, the quad's intersection with the disk (the record's `area` is
 //    rectOccludedArea, the clipped area).
+//  - pvm (cournia2005 sec. 4.2, Fig. 4.4-4.5): inside a penumbra volume, the disk of the light's
+//    radius about its centre perpendicular to the cutting plane through the volume's edge and the
+//    point, drawn as the unit disk with the plane's normal to the right: the cutting line at
+//    u = -s / r, the visible part u > -s / r (area 2a / r^2, a from eq. 4.1 at -s) and the hidden
+//    part one red cell (area pi - 2a / r^2); k = 2a / (pi r^2) (eq. 4.2) and the caption's
+//    v = 3k^2 - 2k^3. Outside every volume the shadow-map test: the whole disk hidden, or none.
 // The left panel draws every region translucent, so overlaps add up in colour; the right panel
 // draws their sum: each point of the light coloured by the net number of regions covering it
 // (signed: the winding numbers of the cells), which is what the technique integrates, so its dark
@@ -24,7 +30,7 @@
 // clamp(1 - (initial_area + sum of areas) / light area, 0, 1).
 // Export (.vtp): one polygon cell per drawn region (the initial-area light, then the record's items
 // in order), cell data `signed_area` (the record's value), `kind` (0 the initial light, 1 an edge,
-// 2 a sample) and `item` (index in the record's list, -1 for the initial light). Each cell's
+// 2 a sample, 3 pvm's hidden part of the disk) and `item` (index in the record's list, -1 for the initial light). Each cell's
 // shoelace area (signed by its orientation) equals its `signed_area` to 1e-5 (square: exactly, up to
 // float rounding; disk: the border is cut into chords of at most 2 pi / 2048, see kArcStep).
 // Reads only the "pixel" record of the technique's Record internal (fields `samples` or `edges`).
@@ -68,12 +74,13 @@ using Polygon = std::vector<glm::vec2>;
 // whole disk (2 pi), 2.5e-6 for an edge's region (at most half the disk).
 constexpr double kArcStep = 2.0 * M_PI / 2048.0;
 
-// The list field of the light's per-pixel record this view draws: "edges" or "samples" ("" if none).
+// The list field of the light's per-pixel record this view draws: "edges" or "samples", or "disk"
+// (pvm's disk and cutting plane, cournia2005 sec. 4.2); "" if none.
 std::string recordList(const LightState& l) {
     for (const InternalDesc& i : l.desc->internals) {
         if (i.kind != InternalDesc::Kind::Record) continue;
         for (const auto& [field, doc] : i.schema)
-            if (field == "edges" || field == "samples") return field;
+            if (field == "edges" || field == "samples" || (field == "disk" && l.desc->id == "pvm")) return field;
     }
     return "";
 }
@@ -83,7 +90,7 @@ std::string refusal(const Renderer& renderer, const ViewRequest& request) {
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     if (recordList(l).empty())
         return "technique " + l.desc->id +
-               " records no back-projection (a per-pixel record with 'edges' or 'samples' on the light)";
+               " records no back-projection (a per-pixel record with 'edges' or 'samples' on the light, or pvm's disk)";
     if (!request.pixel) return "the backprojection view needs a picked pixel (--pixel x,y)";
     return "";
 }
@@ -178,6 +185,23 @@ Polygon lightPolygon(int shape) {
 // next one that enters it along the circle, counter-clockwise (the intersection of two convex
 // regions is convex, its border turns one way). No side meets the disk: the quad holds the disk
 // when it holds the centre, else misses it.
+// pvm (cournia2005 sec. 4.2): the unit disk's part on the hidden side of the cutting line u = c
+// (u along the cutting plane's normal, c = -s / r: the plane's positive half-space u > c is the
+// visible part), counter-clockwise: the arc from the chord's top end round through u = -1 to its
+// bottom end, closed by the chord. Empty for c <= -1 (all visible), the whole disk for c >= 1.
+Polygon diskHiddenRegion(double c) {
+    if (c <= -1.0) return {};
+    if (c >= 1.0) return lightPolygon(bp::BP_LIGHT_DISK);
+    const double t0 = std::acos(c), t1 = 2.0 * M_PI - t0;
+    const int steps = std::max(1, int(std::ceil((t1 - t0) / kArcStep)));
+    Polygon p;
+    for (int i = 0; i <= steps; ++i) {
+        const double t = t0 + (t1 - t0) * double(i) / double(steps);
+        push(p, glm::vec2(float(std::cos(t)), float(std::sin(t))));
+    }
+    return p;
+}
+
 Polygon quadRegion(int shape, glm::vec4 q) {
     if (shape == bp::BP_LIGHT_SQUARE) {
         const float x0 = std::max(q.x, -1.0f), y0 = std::max(q.y, -1.0f);
@@ -272,15 +296,18 @@ void build(ViewContext& ctx, ViewResult& result) {
         throw InputError("view backprojection: pixel " + std::to_string(px.x) + "," + std::to_string(px.y) +
                          " shows no geometry (background)");
     }
-    if (!rec.contains("light_geometry"))
+    // pvm: the disk of radius r perpendicular to the cutting plane (sec. 4.2), drawn as the unit disk
+    // (areas divided by r^2) with the plane's normal to the right.
+    const bool pvmDisk = list == "disk";
+    if (!pvmDisk && !rec.contains("light_geometry"))
         throw InputError("view backprojection: the " + l.desc->id + " record of pixel " + std::to_string(px.x) + "," +
                          std::to_string(px.y) + " has no light_geometry");
-    const nlohmann::json& geometry = rec.at("light_geometry");
+    const nlohmann::json geometry = pvmDisk ? nlohmann::json{{"shape", "disk"}, {"area", M_PI}} : rec.at("light_geometry");
     const bool disk = geometry.value("shape", "square") != "square";
     const int shape = disk ? bp::BP_LIGHT_DISK : bp::BP_LIGHT_SQUARE;
     const double lightArea = geometry.at("area").get<double>();
     const double initial = rec.value("initial_area", 0.0);
-    const nlohmann::json items = rec.value(list, nlohmann::json::array());
+    const nlohmann::json items = pvmDisk ? nlohmann::json::array() : rec.value(list, nlohmann::json::array());
     const bool edges = list == "edges";
     // ssv's record (soft shadow volumes): the initial area is the hard count times the light, each
     // edge's area its weight (1, or 2 for an open mesh's interior silhouette) times its region.
@@ -302,6 +329,26 @@ void build(ViewContext& ctx, ViewResult& result) {
     for (int k = 0; k < initialLights; ++k) cells.push_back({lightPolygon(shape), initial / initialLights, 0, -1});
     double sum = 0.0, added = 0.0, removed = 0.0;
     std::vector<std::pair<glm::vec3, glm::vec3>> edgeLines, clippedLines;
+    // pvm: inside a volume one cell, the disk beyond the cutting line (area pi - 2a / r^2, eq. 4.1 at
+    // -s gives a, the visible part being 2a); outside every volume the shadow-map test: the whole
+    // disk (umbra) or nothing (lit).
+    double pvmK = NAN, pvmChord = NAN;
+    const bool inVolume = pvmDisk && rec.value("in_volume", false);
+    if (inVolume) {
+        const nlohmann::json& d = rec.at("disk");
+        const double r = d.at("radius").get<double>(), s = rec.at("light_distance").get<double>();
+        pvmK = d.at("k").get<double>();
+        pvmChord = r > 0.0 ? std::clamp(-s / r, -1.0, 1.0) : 0.0;
+        const double hidden = M_PI - 2.0 * d.at("segment_area").get<double>() / (r * r);
+        sum = added = hidden;
+        cells.push_back({diskHiddenRegion(pvmChord), hidden, 3, 0});
+        const float c = float(pvmChord), h = float(std::sqrt(std::max(0.0, 1.0 - pvmChord * pvmChord)));
+        clippedLines.push_back({glm::vec3(c, -h, 0.04f), glm::vec3(c, h, 0.04f)});
+    } else if (pvmDisk && rec.contains("shadow_test") && rec["shadow_test"].is_number() &&
+               rec["shadow_test"].get<double>() < 0.5) {
+        sum = added = M_PI;
+        cells.push_back({lightPolygon(shape), M_PI, 3, 0});
+    }
     for (size_t i = 0; i < items.size(); ++i) {
         const auto& it = items[i];
         const double area = it.at(edges ? "signed_area" : "area").get<double>();
@@ -362,6 +409,8 @@ void build(ViewContext& ctx, ViewResult& result) {
         maxAreaError = std::max(maxAreaError, std::abs(drawn - cell.area));
         if (cell.kind == 2)
             colours->InsertNextTuple4(225, 130, 30, 95);  // samples: overlaps add up, darker = counted again
+        else if (cell.kind == 3)
+            colours->InsertNextTuple4(214, 60, 50, 140);  // pvm: the disk beyond the cutting line
         else if (cell.area >= 0.0)
             colours->InsertNextTuple4(214, 60, 50, 95);
         else
@@ -403,12 +452,26 @@ void build(ViewContext& ctx, ViewResult& result) {
     // the unoccluded fraction by the fraction in front (the record's front_fraction).
     const double unoccluded = std::clamp(1.0 - occluded / lightArea, 0.0, 1.0);
     const double front = rec.value("front_fraction", 1.0);
-    const double visible = unoccluded * front;
+    // pvm: v = 3k^2 - 2k^3 of the disk's visible fraction k (sec. 4.2, after Parker et al.).
+    const double shaped = inVolume ? unoccluded * unoccluded * (3.0 - 2.0 * unoccluded) : unoccluded;
+    const double visible = shaped * front;
     const double gpu = rec.value("visibility", std::nan(""));
 
     const std::string classification = rec.value("classification", "");
     std::string caption = "backprojection  " + where + (classification.empty() ? "" : ", " + classification) + "\n";
-    if (volumes)
+    if (pvmDisk && inVolume) {
+        const nlohmann::json& vol = rec.at("volume");
+        caption += "inside the " + vol.value("side", std::string("?")) + " volume of silhouette edge " +
+                   std::to_string(vol.value("edge", -1)) + ": the disk (radius r, perpendicular to the cutting plane, "
+                   "drawn unit) cut at s / r = " + formatNumber(-pvmChord, 4) + "\nvisible segment 2a = " +
+                   formatNumber(2.0 * rec.at("disk").at("segment_area").get<double>(), 5) + " (a: eq. 4.1), k = 2a / (pi r^2) = " +
+                   formatNumber(pvmK, 5) + " (eq. 4.2), v = 3k^2 - 2k^3; right: the disk's hidden part dark\n";
+    } else if (pvmDisk && front <= 0.0) {
+        caption += "the light is behind the receiver's tangent plane: no volume or shadow test is read, v = 0\n";
+    } else if (pvmDisk) {
+        caption += std::string("outside every penumbra volume: the shadow-map test, ") +
+                   (sum > 0.0 ? "umbra (the whole disk hidden)" : "lit (the whole disk visible)") + "\n";
+    } else if (volumes)
         caption += std::to_string(items.size()) + " silhouette edges whose wedge holds the point, the light beyond each: +" +
                    formatNumber(added) + " (red, cw) " + formatNumber(removed) + " (blue, ccw)\ninitial " +
                    formatNumber(initial) + " (" + std::to_string(initialLights) +
@@ -422,7 +485,9 @@ void build(ViewContext& ctx, ViewResult& result) {
         caption += std::to_string(items.size()) + " occluding samples, quads clipped to the light: sum " + formatNumber(sum) +
                    ", initial " + formatNumber(initial) + "\noverlaps count twice; right: the net count of quads\n";
     caption += "occluded " + formatNumber(occluded, 5) + " of " + formatNumber(lightArea, 5) + ": visible fraction " +
-               (front < 1.0 ? formatNumber(unoccluded, 4) + " x " + formatNumber(front, 4) + " (front) = " : "") +
+               (inVolume ? "k = " + formatNumber(unoccluded, 5) + ", 3k^2 - 2k^3 = " + formatNumber(shaped, 5) +
+                               (front < 1.0 ? " x " + formatNumber(front, 4) + " (front)" : "") + " = "
+                         : (front < 1.0 ? formatNumber(unoccluded, 4) + " x " + formatNumber(front, 4) + " (front) = " : "")) +
                formatNumber(visible, 6) + " (image: " + formatNumber(gpu, 6) + ")";
     result.caption = caption;
     result.data = {{"pixel", {px.x, px.y}},
@@ -446,10 +511,11 @@ void build(ViewContext& ctx, ViewResult& result) {
     const double strip = addCaptionStrip(ctx.out, caption, true);
     // The two panels' titles in a strip of their own above the light squares (wrapped to a half
     // width, measured), so that at any size they never cover the drawing.
-    const std::string leftTitle = edges ? (initial > 0.0 ? "each edge's region: red adds, blue removes; the whole light starts red"
+    const std::string leftTitle = pvmDisk ? "the light's disk: the cutting line through the edge and the point, the hidden part red" : edges ? (initial > 0.0 ? "each edge's region: red adds, blue removes; the whole light starts red"
                                                          : "each edge's region of the light: red adds, blue removes")
                                         : "each sample's quad on the light: overlaps add up";
-    const std::string rightTitle = "their sum: occluded light dark (orange: twice, blue: < 0)";
+    const std::string rightTitle = pvmDisk ? "the disk's hidden part dark, its visible segment pale"
+                                           : "their sum: occluded light dark (orange: twice, blue: < 0)";
     double titleTop = 1.0;
     std::string leftWrapped, rightWrapped;
     {
@@ -572,7 +638,7 @@ const ViewDesc& backprojectionView() {
                      "the light beyond it in its wedge (red adds, blue removes) or each sample's quad clipped to the "
                      "light, and beside them their net count over the light; the visible fraction";
         d.info.appliesTo = "techniques whose per-pixel record lists back-projected 'samples' or 'edges' "
-                           "(ssm-gbp06, ssm-contour, ssv with split 1); needs --pixel";
+                           "(ssm-gbp06, ssm-contour, ssv with split 1), and pvm's disk and cutting line; needs --pixel";
         d.info.exportExtension = ".vtp";
         d.refusal = refusal;
         d.build = build;

@@ -262,6 +262,74 @@ TEST_F(BackprojectionView, SsvCellsHaveTheRecordsAreasAndTheImagesVisibility) {
     }
 }
 
+// pvm (issue 22): the light's disk with the cutting line. Inside a volume the hidden part is one
+// cell whose polygon has the area pi - 2a / r^2 (the record's segment_area a, eq. 4.1 at -s, on the
+// unit disk), the visible fraction is k = 2a / (pi r^2) (the record's k, eq. 4.2) and the caption's
+// 3k^2 - 2k^3 times the front fraction is the image's visibility; outside every volume the whole
+// disk (umbra) or no cell (lit). Tolerance 1e-4 as above (float record against the GPU's float).
+TEST_F(BackprojectionView, PvmDiskHasTheRecordsSegmentAndTheImagesVisibility) {
+    int inVolume = 0, umbra = 0, lit = 0;
+    for (const std::string name : {"sphere-light", "overlapping-occluders"}) {
+        SCOPED_TRACE(name);
+        Scene scene = loadScene(name);
+        RenderOptions o;
+        o.width = o.height = 96;
+        o.technique = "pvm";
+        Renderer renderer(scene, o);
+        renderer.renderFrame(0, {"visibility"});
+        const Image vis = renderer.visibility();
+        // Up to 8 penumbra pixels (0 < v < 1), 3 dark and 3 lit ones, spread over the image.
+        std::vector<glm::ivec2> picks;
+        int want[3] = {8, 3, 3};
+        for (int y = 2; y < 96; y += 3)
+            for (int x = 2 + (y / 3) % 3; x < 96; x += 7) {
+                if (renderer.ids().at(x, y) < 0.0f) continue;
+                const float v = vis.at(x, y);
+                const int kind = v <= 0.0f ? 1 : (v >= 1.0f ? 2 : 0);
+                if (want[kind] > 0 && (kind != 0 || (x + y) % 2 == 0)) {
+                    --want[kind];
+                    picks.push_back({x, y});
+                }
+            }
+        for (const glm::ivec2 pick : picks) {
+                const int x = pick.x, y = pick.y;
+                SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
+                ViewRequest request = viewRequest("backprojection", {x, y});
+                request.exportPath = test::testPath("viz", "bp-pvm-" + name + ".vtp");
+                ASSERT_EQ(viewRefusal(renderer, request), "");
+                ViewResult r = renderView(renderer, scene, request);
+                EXPECT_NEAR(r.data["visible_fraction"].get<double>(), vis.at(x, y), 1e-4);
+                vtkNew<vtkXMLPolyDataReader> reader;
+                reader->SetFileName(request.exportPath.c_str());
+                reader->Update();
+                vtkPolyData* poly = reader->GetOutput();
+                if (r.caption.find("inside the") != std::string::npos) {
+                    ASSERT_EQ(poly->GetNumberOfCells(), 1);
+                    const double hidden = shoelaceArea(poly->GetCell(0));
+                    const double k = 1.0 - hidden / M_PI;
+                    EXPECT_NEAR(hidden, r.data["occluded_area"].get<double>(), 1e-4);
+                    EXPECT_NEAR(k, r.data["unoccluded_fraction"].get<double>(), 1e-4);
+                    EXPECT_NE(r.caption.find("k = 2a / (pi r^2)"), std::string::npos) << r.caption;
+                    ++inVolume;
+                } else if (poly->GetNumberOfCells() == 1) {
+                    EXPECT_NEAR(shoelaceArea(poly->GetCell(0)), M_PI, 1e-4);
+                    EXPECT_NE(r.caption.find("umbra"), std::string::npos) << r.caption;
+                    ++umbra;
+                } else {
+                    EXPECT_EQ(poly->GetNumberOfCells(), 0);
+                    const bool behind = r.data["front_fraction"].get<double>() <= 0.0;
+                    EXPECT_NE(r.caption.find(behind ? "behind the receiver's tangent plane" : "lit"), std::string::npos)
+                        << r.caption;
+                    lit += !behind;
+                }
+            }
+    }
+    std::printf("backprojection pvm: %d pixels in a volume, %d umbra, %d lit\n", inVolume, umbra, lit);
+    EXPECT_GE(inVolume, 10);
+    EXPECT_GE(umbra, 2);
+    EXPECT_GE(lit, 4);
+}
+
 // The per-pixel record of the back-projection techniques has its own "light_geometry" (shape,
 // area); it used to be called "light" and replaced the light's index the renderer merges under that
 // key, so ViewContext::pixelRecord() threw a json type_error for ssm-* (the shadow-map view with a
