@@ -123,7 +123,7 @@ TEST(LessonFormat, CommandLineRefusesABadLessonWithExitCode2AndWritesNothing) {
     EXPECT_FALSE(fs::exists(out)) << "nothing is written for a bad lesson";
     r = test::run("lesson nonexistent --check");
     EXPECT_EQ(r.code, 2);
-    EXPECT_NE(r.output.find("unknown lesson 'nonexistent' (lessons: adaptive-precision, backprojection, intro, pcss-sssm, shadow-mapping"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("unknown lesson 'nonexistent' (lessons: adaptive-precision, backprojection, intro, pcss-sssm, penumbra-volumes, shadow-mapping"), std::string::npos) << r.output;
 }
 
 // ---- states ---------------------------------------------------------------------------------------
@@ -158,7 +158,7 @@ TEST(LessonState, AnswerStateIsTheStepStatePlusTheAnswer) {
 }
 
 TEST(LessonState, BothLessonsLoadWithTasks) {
-    for (const std::string& id : {"intro", "shadow-mapping", "pcss-sssm", "backprojection", "soft-shadow-volumes", "sub-pixel-shadow-maps"}) {
+    for (const std::string& id : {"intro", "shadow-mapping", "pcss-sssm", "backprojection", "soft-shadow-volumes", "sub-pixel-shadow-maps", "penumbra-volumes"}) {
         Lesson l = loadLesson(id);
         EXPECT_EQ(l.file, "lessons/" + id + ".md");
         EXPECT_GE(l.steps.size(), 6u) << id;
@@ -715,9 +715,10 @@ TEST(LessonHeadless, BackprojectionRendersEveryStepWithTasksCheckedBothWays) { r
 TEST(LessonHeadless, SoftShadowVolumesRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("soft-shadow-volumes"); }
 TEST(LessonHeadless, AdaptivePrecisionRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("adaptive-precision"); }
 TEST(LessonHeadless, SubPixelShadowMapsRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("sub-pixel-shadow-maps"); }
+TEST(LessonHeadless, PenumbraVolumesRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("penumbra-volumes"); }
 TEST(LessonHeadless, EveryLessonHasAHeadlessTest) {
     EXPECT_EQ(listLessons(),
-              (std::vector<std::string>{"adaptive-precision", "backprojection", "intro", "pcss-sssm", "shadow-mapping", "soft-shadow-volumes", "sub-pixel-shadow-maps"}))
+              (std::vector<std::string>{"adaptive-precision", "backprojection", "intro", "pcss-sssm", "penumbra-volumes", "shadow-mapping", "soft-shadow-volumes", "sub-pixel-shadow-maps"}))
         << "a new lesson needs its own LessonHeadless test above";
 }
 
@@ -812,6 +813,7 @@ TEST(LessonCheck, BackprojectionAt320And1024) { checkAtTwoSizes("backprojection"
 TEST(LessonCheck, SoftShadowVolumesAt320And1024) { checkAtTwoSizes("soft-shadow-volumes"); }
 TEST(LessonCheck, AdaptivePrecisionAt320And1024) { checkAtTwoSizes("adaptive-precision"); }
 TEST(LessonCheck, SubPixelShadowMapsAt320And1024) { checkAtTwoSizes("sub-pixel-shadow-maps"); }
+TEST(LessonCheck, PenumbraVolumesAt320And1024) { checkAtTwoSizes("penumbra-volumes"); }
 TEST(LessonCheck, SizesAreForCheckAndTrailingSlashIsAFolder) {
     EXPECT_EQ(test::run("lesson intro --sizes 320x320").code, 2);
     EXPECT_EQ(test::run("lesson intro --check --sizes 320x").code, 2);

@@ -443,5 +443,29 @@ TEST_F(PvmfRender, SeedAndBlur) {
     EXPECT_LT(blurred, 0.5 * raw);
 }
 
+// Open and non-manifold meshes (techniques/pvm/README.md, "Silhouettes": pvmf uses the same loops):
+// an open square of two triangles has its four boundary edges as silhouettes and gives the open
+// square's shadow within RMSE 0.06 of `raytraced`; the same square with two fins on one edge (four
+// faces there) is named on stderr and renders finite values in [0, 1].
+TEST_F(PvmfRender, OpenAndNonManifoldMeshes) {
+    const std::vector<glm::vec3> square = {{-0.5f, 2, -0.5f}, {0.5f, 2, -0.5f}, {0.5f, 2, 0.5f}, {-0.5f, 2, 0.5f}};
+    const std::vector<uint32_t> two = {0, 2, 1, 0, 3, 2};
+    const Scene open = loadScene(testing::writeGltf("pvmf-open-square", square, two));
+    const double e = rmse(renderVisibility(open, "pvmf", 96), renderVisibility(open, "raytraced", 96));
+    std::printf("[ pvmf     ] open square vs raytraced: RMSE %.5f\n", e);
+    EXPECT_LE(e, 0.06);
+    std::vector<glm::vec3> finned = square;
+    finned.push_back({0.0f, 1.6f, -0.5f});
+    finned.push_back({0.0f, 2.4f, -0.5f});
+    std::vector<uint32_t> fins = two;
+    fins.insert(fins.end(), {0, 1, 4, 1, 0, 5});
+    const Scene nm = loadScene(testing::writeGltf("pvmf-finned-square", finned, fins));
+    ::testing::internal::CaptureStderr();
+    const Image v = renderVisibility(nm, "pvmf", 96);
+    const std::string err = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(err.find("pvmf: object 'pvmf-finned-square' is not a manifold"), std::string::npos) << err;
+    for (float x : v.data) ASSERT_TRUE(std::isfinite(x) && x >= 0.0f && x <= 1.0f);
+}
+
 }  // namespace
 }  // namespace shadowlab
