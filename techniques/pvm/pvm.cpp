@@ -192,6 +192,33 @@ glm::vec4 texelOf(const Texture& texture, glm::ivec2 t) {
     return v;
 }
 
+}  // namespace
+
+std::optional<RecordReceiver> beginReceiverRecord(PassContext& ctx, glm::ivec2 pixel, nlohmann::json& j) {
+    const int row = ctx.height() - 1 - pixel.y;
+    const glm::vec4 position = texelOf(*ctx.gbuffer().position, {pixel.x, row});
+    const glm::vec4 normal = texelOf(*ctx.gbuffer().normal, {pixel.x, row});
+    if (position.w == 0.0f) {
+        j["background"] = true;
+        return std::nullopt;
+    }
+    const Light& light = ctx.light();
+    const LightView& view = ctx.lightView();
+    RecordReceiver r;
+    r.p = glm::vec3(position);
+    r.n = glm::vec3(normal);
+    r.coord = shared::shadowMapCoord(view.viewFromWorld, view.clipFromView, r.p);
+    j["receiver"] = {r.p.x, r.p.y, r.p.z};
+    j["receiver_depth"] = r.coord.z;
+    r.front = shared::lightFractionInFront(light.isPoint() ? int(LightShape::Point) : int(light.shape), light.position,
+                                           light.isPoint() ? glm::vec3(0.0f) : light.right(), light.up,
+                                           light.isPoint() ? 0.0f : light.size, r.p, r.n);
+    j["front_fraction"] = r.front;
+    return r;
+}
+
+namespace {
+
 // The picked pixel: which volume covered it, the cutting plane and the disk segment (sec. 4.2), as
 // the visibility pass computed them.
 InternalDesc pvmPixelRecord() {
@@ -222,24 +249,14 @@ InternalDesc pvmPixelRecord() {
     r.reads = {"gbuffer", "light", "pvdm", "pvem0", "pvem1", "silhouettes", "shadow_map", "shadow_map_second_depth",
                "param:second_depth", "param:bias_const", "param:bias_slope", "visibility"};
     r.record = [](PassContext& ctx, glm::ivec2 pixel) {
-        const int row = ctx.height() - 1 - pixel.y;
-        const glm::vec4 position = texelOf(*ctx.gbuffer().position, {pixel.x, row});
-        const glm::vec4 normal = texelOf(*ctx.gbuffer().normal, {pixel.x, row});
         nlohmann::json j;
-        if (position.w == 0.0f) {
-            j["background"] = true;
-            return j;
-        }
+        const std::optional<RecordReceiver> receiver = beginReceiverRecord(ctx, pixel, j);
+        if (!receiver) return j;
         const Light& light = ctx.light();
         const LightView& view = ctx.lightView();
-        const glm::vec3 p(position), n(normal);
-        const glm::vec4 coord = shared::shadowMapCoord(view.viewFromWorld, view.clipFromView, p);
-        j["receiver"] = {p.x, p.y, p.z};
-        j["receiver_depth"] = coord.z;
-        const float front = shared::lightFractionInFront(light.isPoint() ? int(LightShape::Point) : int(light.shape),
-                                                         light.position, light.isPoint() ? glm::vec3(0.0f) : light.right(),
-                                                         light.up, light.isPoint() ? 0.0f : light.size, p, n);
-        j["front_fraction"] = front;
+        const glm::vec3 p = receiver->p, n = receiver->n;
+        const glm::vec4 coord = receiver->coord;
+        const float front = receiver->front;
         float v = 1.0f;
         j["map_texel"] = nullptr;
         j["in_volume"] = false;

@@ -6,6 +6,7 @@
 #pragma once
 #include <array>
 #include <glm/glm.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,17 @@ std::array<glm::vec3, 4> pvmQuad(const PvmEdge& edge, float side, float w);
 // the end points moved towards the light by s_e d_e, e^0, e^0 + w v_0, e^1 + w v_1, e^1, for a light of
 // radius r centred at l. Independent of the edge's neighbours.
 std::array<glm::vec3, 4> pvmfQuad(const PvmEdge& edge, const glm::vec3& l, float r, float se, float side, float w);
+
+// The start both volume techniques' per-pixel records share: the receiver at `pixel` (the G-buffer
+// row flipped), its light-view coordinate and the light's fraction in front of its tangent plane,
+// written into `j` as receiver, receiver_depth and front_fraction. nullopt (and j = {background:
+// true}) when the pixel shows no geometry.
+struct RecordReceiver {
+    glm::vec3 p{0.0f}, n{0.0f};
+    glm::vec4 coord{0.0f};  // shadowMapCoord: xy texture, z light-view depth, w 0 outside the frustum
+    float front = 0.0f;
+};
+std::optional<RecordReceiver> beginReceiverRecord(PassContext& ctx, glm::ivec2 pixel, nlohmann::json& j);
 
 // The extrusion length w for a scene: twice the distance from the light centre to the farthest
 // corner of the bounds, so that a + w v (v unit, pointing away from the light) lies outside them.

@@ -301,24 +301,14 @@ InternalDesc pvmfPixelRecord() {
                "param:bias_const", "param:bias_slope", "param:s_p", "param:n_pcf", "param:n_do", "param:seed",
                "visibility_raw", "visibility"};
     r.record = [](PassContext& ctx, glm::ivec2 pixel) {
-        const int row = ctx.height() - 1 - pixel.y;
-        const glm::vec4 position = texelOf(*ctx.gbuffer().position, {pixel.x, row});
-        const glm::vec4 normal = texelOf(*ctx.gbuffer().normal, {pixel.x, row});
         nlohmann::json j;
-        if (position.w == 0.0f) {
-            j["background"] = true;
-            return j;
-        }
+        const std::optional<RecordReceiver> receiver = beginReceiverRecord(ctx, pixel, j);
+        if (!receiver) return j;
         const Light& light = ctx.light();
         const LightView& view = ctx.lightView();
-        const glm::vec3 p(position), n(normal);
-        const glm::vec4 coord = shared::shadowMapCoord(view.viewFromWorld, view.clipFromView, p);
-        j["receiver"] = {p.x, p.y, p.z};
-        j["receiver_depth"] = coord.z;
-        const float front = shared::lightFractionInFront(light.isPoint() ? int(LightShape::Point) : int(light.shape),
-                                                         light.position, light.isPoint() ? glm::vec3(0.0f) : light.right(),
-                                                         light.up, light.isPoint() ? 0.0f : light.size, p, n);
-        j["front_fraction"] = front;
+        const glm::vec3 p = receiver->p, n = receiver->n;
+        const glm::vec4 coord = receiver->coord;
+        const float front = receiver->front;
         const float dr = glm::length(p - light.position);
         j["d_r"] = dr;
         for (const char* f : {"map_texel", "mask_depth", "shadow_test", "d_o", "mask_texels", "w_pcf", "w_pcf_texels",
@@ -370,7 +360,7 @@ InternalDesc pvmfPixelRecord() {
                     j["w_pcf_texels"] = width;
                     const uint32_t npcf = uint32_t(ctx.paramInt("n_pcf"));
                     const uint32_t seed = shared::pvmfPixelSeed(uint32_t(ctx.paramInt("seed")), uint32_t(pixel.x),
-                                                                uint32_t(row));  // the GL pixel, as the filter
+                                                                uint32_t(ctx.height() - 1 - pixel.y));  // the GL pixel, as the filter
                     nlohmann::json samples = nlohmann::json::array();
                     float lit = 0.0f;
                     for (uint32_t i = 0; i < npcf * npcf; ++i) {
