@@ -461,11 +461,9 @@ void build(ViewContext& ctx, ViewResult& result) {
     std::string caption = "backprojection  " + where + (classification.empty() ? "" : ", " + classification) + "\n";
     if (pvmDisk && inVolume) {
         const nlohmann::json& vol = rec.at("volume");
-        caption += "inside the " + vol.value("side", std::string("?")) + " volume of silhouette edge " +
-                   std::to_string(vol.value("edge", -1)) + ": the disk (radius r, perpendicular to the cutting plane, "
-                   "drawn unit) cut at s / r = " + formatNumber(-pvmChord, 4) + "\nvisible segment 2a = " +
-                   formatNumber(2.0 * rec.at("disk").at("segment_area").get<double>(), 5) + " (a: eq. 4.1), k = 2a / (pi r^2) = " +
-                   formatNumber(pvmK, 5) + " (eq. 4.2), v = 3k^2 - 2k^3; right: the disk's hidden part dark\n";
+        caption += vol.value("side", std::string("?")) + " volume of edge " + std::to_string(vol.value("edge", -1)) +
+                   ": disk cut at s/r = " + formatNumber(-pvmChord, 4) + ", visible 2a = " +
+                   formatNumber(2.0 * rec.at("disk").at("segment_area").get<double>(), 5) + " (eq. 4.1)\n";
     } else if (pvmDisk && front <= 0.0) {
         caption += "the light is behind the receiver's tangent plane: no volume or shadow test is read, v = 0\n";
     } else if (pvmDisk) {
@@ -484,11 +482,14 @@ void build(ViewContext& ctx, ViewResult& result) {
     else
         caption += std::to_string(items.size()) + " occluding samples, quads clipped to the light: sum " + formatNumber(sum) +
                    ", initial " + formatNumber(initial) + "\noverlaps count twice; right: the net count of quads\n";
-    caption += "occluded " + formatNumber(occluded, 5) + " of " + formatNumber(lightArea, 5) + ": visible fraction " +
-               (inVolume ? "k = " + formatNumber(unoccluded, 5) + ", 3k^2 - 2k^3 = " + formatNumber(shaped, 5) +
-                               (front < 1.0 ? " x " + formatNumber(front, 4) + " (front)" : "") + " = "
-                         : (front < 1.0 ? formatNumber(unoccluded, 4) + " x " + formatNumber(front, 4) + " (front) = " : "")) +
-               formatNumber(visible, 6) + " (image: " + formatNumber(gpu, 6) + ")";
+    if (inVolume)
+        caption += "k = 2a/(pi r^2) = " + formatNumber(unoccluded, 5) + " (eq. 4.2), v = 3k^2 - 2k^3 = " +
+                   formatNumber(shaped, 5) + (front < 1.0 ? " x " + formatNumber(front, 4) + " (front)" : "") + " = " +
+                   formatNumber(visible, 6) + " (image: " + formatNumber(gpu, 6) + ")";
+    else
+        caption += "occluded " + formatNumber(occluded, 5) + " of " + formatNumber(lightArea, 5) + ": visible fraction " +
+                   (front < 1.0 ? formatNumber(unoccluded, 4) + " x " + formatNumber(front, 4) + " (front) = " : "") +
+                   formatNumber(visible, 6) + " (image: " + formatNumber(gpu, 6) + ")";
     result.caption = caption;
     result.data = {{"pixel", {px.x, px.y}},
                    {"list", list},
@@ -511,10 +512,10 @@ void build(ViewContext& ctx, ViewResult& result) {
     const double strip = addCaptionStrip(ctx.out, caption, true);
     // The two panels' titles in a strip of their own above the light squares (wrapped to a half
     // width, measured), so that at any size they never cover the drawing.
-    const std::string leftTitle = pvmDisk ? "the light's disk: the cutting line through the edge and the point, the hidden part red" : edges ? (initial > 0.0 ? "each edge's region: red adds, blue removes; the whole light starts red"
+    const std::string leftTitle = pvmDisk ? "the disk, its cutting line, the hidden part red" : edges ? (initial > 0.0 ? "each edge's region: red adds, blue removes; the whole light starts red"
                                                          : "each edge's region of the light: red adds, blue removes")
                                         : "each sample's quad on the light: overlaps add up";
-    const std::string rightTitle = pvmDisk ? "the disk's hidden part dark, its visible segment pale"
+    const std::string rightTitle = pvmDisk ? "hidden dark, visible pale"
                                            : "their sum: occluded light dark (orange: twice, blue: < 0)";
     double titleTop = 1.0;
     std::string leftWrapped, rightWrapped;
