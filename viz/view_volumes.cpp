@@ -123,21 +123,70 @@ vtkSmartPointer<vtkActor> cellsActor(vtkPolyData* data, float lineWidth, bool li
 
 namespace {
 
-using Cells = ViewCells;
-
-enum Part { kScene = 0, kLight = 1, kSilhouette = 2, kWedge = 3, kPicked = 4 };
-
 const glm::vec3 kLightRgb(1.0f, 0.85f, 0.25f), kPickedRgb(1.0f, 0.3f, 1.0f);
 
-bool hasMesh(const LightState& l, const std::string& name, InternalDesc::Kind kind) {
+bool declaresInternal(const LightState& l, const std::string& name, InternalDesc::Kind kind) {
     const InternalDesc* i = l.desc->findInternal(name);
     return i && i->kind == kind;
 }
 
+// The 3D panel both views end with, above the caption strip: the scene's opaque cells (lit), the
+// picked point, then the held and the translucent cells blended last (what they cover shows through);
+// the scene camera orbited a little so the volumes' depth shows, fitted to the silhouette edges, the
+// light, the picked point and the receivers below (the volumes reach beyond them); and the export,
+// every part appended.
+void drawVolumeScene(ViewContext& ctx, const Renderer& renderer, const Scene& scene, double t, const Light& light,
+                     const MeshData& edges, const std::optional<glm::vec3>& point, ViewCells& opaque, ViewCells& held,
+                     ViewCells& translucent, double strip) {
+    vtkRenderer* r3 = ctx.out.addRenderer();
+    r3->SetViewport(0.0, strip, 1.0, 1.0);
+    r3->SetBackground(0.10, 0.11, 0.14);
+    r3->SetBackground2(0.22, 0.24, 0.30);
+    r3->GradientBackgroundOn();
+    auto opaqueData = opaque.data(), heldData = held.data(), translucentData = translucent.data();
+    auto sceneActor = cellsActor(opaqueData, 3.0f, true, false);
+    sceneActor->GetProperty()->SetAmbient(0.3);
+    sceneActor->GetProperty()->SetDiffuse(0.7);
+    r3->AddActor(sceneActor);
+    const Bounds bounds = scene.bounds(t);
+    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.hi - bounds.lo);
+    if (point) r3->AddActor(pointMarker(*point, 0.01 * diagonal, kPickedRgb));
+    r3->AddActor(cellsActor(heldData, 6.0f, false, true));
+    r3->AddActor(cellsActor(translucentData, 1.0f, false, true));
+    orbitSceneCamera(r3, renderer.camera(), 25.0 + ctx.request.azimuth, 10.0 + ctx.request.elevation);
+    Bounds fit;
+    for (const glm::vec3& p : edges.positions) fit.extend(p);
+    fit.extend(light.position - glm::vec3(light.size));
+    fit.extend(light.position + glm::vec3(light.size));
+    if (point) fit.extend(*point);
+    if (fit.empty()) fit = bounds;
+    fit.extend(glm::vec3(fit.lo.x, bounds.lo.y, fit.lo.z));  // down to the receivers below the casters
+    double box[6] = {fit.lo.x, fit.hi.x, fit.lo.y, fit.hi.y, fit.lo.z, fit.hi.z};
+    r3->ResetCamera(box);
+    r3->GetActiveCamera()->Zoom(1.1 * ctx.request.zoom);
+    r3->ResetCameraClippingRange();
+
+    if (!ctx.request.exportPath.empty()) {
+        vtkNew<vtkAppendPolyData> all;
+        for (vtkPolyData* d : {opaqueData.Get(), heldData.Get(), translucentData.Get()}) all->AddInputData(d);
+        all->Update();
+        writePolyData(all->GetOutput(), ctx.exportTarget(ctx.request.exportPath));
+    }
+}
+
+}  // namespace
+
+namespace {
+
+using Cells = ViewCells;
+
+enum Part { kScene = 0, kLight = 1, kSilhouette = 2, kWedge = 3, kPicked = 4 };
+
 std::string refusal(const Renderer& renderer, const ViewRequest& request) {
     const LightState& l = *renderer.lights().at(size_t(request.light));
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
-    if (!hasMesh(l, "wedges", InternalDesc::Kind::Mesh) || !hasMesh(l, "silhouettes", InternalDesc::Kind::Lines))
+    if (!declaresInternal(l, "wedges", InternalDesc::Kind::Mesh) ||
+        !declaresInternal(l, "silhouettes", InternalDesc::Kind::Lines))
         return "technique " + l.desc->id + " builds no penumbra wedges (ssv does)";
     return "";
 }
@@ -245,48 +294,8 @@ void build(ViewContext& ctx, ViewResult& result) {
     data["wedges"] = wedgeCount;
     data["everywhere"] = everywhere;
     result.data = data;
-    const double strip = addCaptionStrip(ctx.out, result.caption);
-
-    vtkRenderer* r3 = ctx.out.addRenderer();
-    r3->SetViewport(0.0, strip, 1.0, 1.0);
-    r3->SetBackground(0.10, 0.11, 0.14);
-    r3->SetBackground2(0.22, 0.24, 0.30);
-    r3->GradientBackgroundOn();
-    auto opaqueData = opaque.data(), heldData = held.data(), translucentData = translucent.data();
-    auto sceneActor = cellsActor(opaqueData, 3.0f, true, false);
-    sceneActor->GetProperty()->SetAmbient(0.3);
-    sceneActor->GetProperty()->SetDiffuse(0.7);
-    r3->AddActor(sceneActor);
-    const Bounds bounds = scene.bounds(t);
-    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.hi - bounds.lo);
-    if (point) r3->AddActor(pointMarker(*point, 0.01 * diagonal, kPickedRgb));
-    // The blended wedges last: what they cover stays visible through them.
-    r3->AddActor(cellsActor(heldData, 6.0f, false, true));
-    r3->AddActor(cellsActor(translucentData, 1.0f, false, true));
-    // The scene camera's view, orbited a little so the wedges' depth shows; fit the casters, the
-    // light and the picked point (the wedges reach down to their bottom plane, beyond the receivers).
-    const Camera camera = renderer.camera();
-    orbitSceneCamera(r3, camera, 25.0 + ctx.request.azimuth, 10.0 + ctx.request.elevation);
-    vtkCamera* view = r3->GetActiveCamera();
-    Bounds fit;
-    for (const glm::vec3& p : edges.positions) fit.extend(p);
-    fit.extend(light.position - glm::vec3(light.size));
-    fit.extend(light.position + glm::vec3(light.size));
-    if (point) fit.extend(*point);
-    if (fit.empty()) fit = bounds;
-    // Down to the receivers below the casters.
-    fit.extend(glm::vec3(fit.lo.x, bounds.lo.y, fit.lo.z));
-    double box[6] = {fit.lo.x, fit.hi.x, fit.lo.y, fit.hi.y, fit.lo.z, fit.hi.z};
-    r3->ResetCamera(box);
-    view->Zoom(1.1 * ctx.request.zoom);
-    r3->ResetCameraClippingRange();
-
-    if (!ctx.request.exportPath.empty()) {
-        vtkNew<vtkAppendPolyData> all;
-        for (vtkPolyData* d : {opaqueData.Get(), heldData.Get(), translucentData.Get()}) all->AddInputData(d);
-        all->Update();
-        writePolyData(all->GetOutput(), ctx.exportTarget(ctx.request.exportPath));
-    }
+    drawVolumeScene(ctx, renderer, scene, t, light, edges, point, opaque, held, translucent,
+                    addCaptionStrip(ctx.out, result.caption));
 }
 
 }  // namespace
@@ -329,19 +338,13 @@ namespace penumbra_volumes_view {
 
 enum Part { kScene = 0, kLight = 1, kSilhouette = 2, kVolume = 3, kPicked = 4 };
 
-const glm::vec3 kLightRgb(1.0f, 0.85f, 0.25f), kPickedRgb(1.0f, 0.3f, 1.0f);
 const glm::vec3 kOuterRgb(1.0f, 0.55f, 0.15f), kInnerRgb(0.25f, 0.55f, 1.0f), kEdgeRgb(0.95f, 0.95f, 0.95f);
-
-bool hasInternal(const LightState& l, const std::string& name, InternalDesc::Kind kind) {
-    const InternalDesc* i = l.desc->findInternal(name);
-    return i && i->kind == kind;
-}
 
 std::string refusal(const Renderer& renderer, const ViewRequest& request) {
     const LightState& l = *renderer.lights().at(size_t(request.light));
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
-    if (!hasInternal(l, "penumbra_volumes", InternalDesc::Kind::Mesh) ||
-        !hasInternal(l, "silhouettes", InternalDesc::Kind::Lines))
+    if (!declaresInternal(l, "penumbra_volumes", InternalDesc::Kind::Mesh) ||
+        !declaresInternal(l, "silhouettes", InternalDesc::Kind::Lines))
         return "technique " + l.desc->id + " builds no penumbra volumes (pvm and pvmf do)";
     return "";
 }
@@ -472,9 +475,8 @@ void build(ViewContext& ctx, ViewResult& result) {
 
     char head[400];
     std::snprintf(head, sizeof head,
-                  "penumbra-volumes  %s / %s, t = %.3g s: %zu silhouette edges from the light's centre (white), %zu "
-                  "outer volumes (orange: outer penumbra) and %zu inner (blue: inner penumbra), as rasterized; light "
-                  "(yellow)",
+                  "penumbra-volumes  %s / %s, t = %.3g s: %zu silhouette edges (white), %zu outer volumes "
+                  "(orange) and %zu inner (blue) as rasterized; light (yellow)",
                   scene.name.c_str(), l.desc->id.c_str(), t, edges.primitiveCount(), outer / 2, inner / 2);
     result.caption = head;
     if (!pixelLine.empty()) result.caption += "\n" + pixelLine;
@@ -482,44 +484,8 @@ void build(ViewContext& ctx, ViewResult& result) {
     data["outer_volumes"] = outer / 2;
     data["inner_volumes"] = inner / 2;
     result.data = data;
-    const double strip = addCaptionStrip(ctx.out, result.caption);
-
-    vtkRenderer* r3 = ctx.out.addRenderer();
-    r3->SetViewport(0.0, strip, 1.0, 1.0);
-    r3->SetBackground(0.10, 0.11, 0.14);
-    r3->SetBackground2(0.22, 0.24, 0.30);
-    r3->GradientBackgroundOn();
-    auto opaqueData = opaque.data(), heldData = held.data(), translucentData = translucent.data();
-    auto sceneActor = cellsActor(opaqueData, 3.0f, true, false);
-    sceneActor->GetProperty()->SetAmbient(0.3);
-    sceneActor->GetProperty()->SetDiffuse(0.7);
-    r3->AddActor(sceneActor);
-    const Bounds bounds = scene.bounds(t);
-    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.hi - bounds.lo);
-    if (point) r3->AddActor(pointMarker(*point, 0.01 * diagonal, kPickedRgb));
-    r3->AddActor(cellsActor(heldData, 6.0f, false, true));
-    r3->AddActor(cellsActor(translucentData, 1.0f, false, true));
-    // The scene camera's view, orbited a little so the volumes' depth shows; fit the casters' edges,
-    // the light, the picked point and the receivers below (the volumes reach beyond them).
-    orbitSceneCamera(r3, renderer.camera(), 25.0 + ctx.request.azimuth, 10.0 + ctx.request.elevation);
-    Bounds fit;
-    for (const glm::vec3& p : edges.positions) fit.extend(p);
-    fit.extend(light.position - glm::vec3(light.size));
-    fit.extend(light.position + glm::vec3(light.size));
-    if (point) fit.extend(*point);
-    if (fit.empty()) fit = bounds;
-    fit.extend(glm::vec3(fit.lo.x, bounds.lo.y, fit.lo.z));
-    double box[6] = {fit.lo.x, fit.hi.x, fit.lo.y, fit.hi.y, fit.lo.z, fit.hi.z};
-    r3->ResetCamera(box);
-    r3->GetActiveCamera()->Zoom(1.1 * ctx.request.zoom);
-    r3->ResetCameraClippingRange();
-
-    if (!ctx.request.exportPath.empty()) {
-        vtkNew<vtkAppendPolyData> all;
-        for (vtkPolyData* d : {opaqueData.Get(), heldData.Get(), translucentData.Get()}) all->AddInputData(d);
-        all->Update();
-        writePolyData(all->GetOutput(), ctx.exportTarget(ctx.request.exportPath));
-    }
+    drawVolumeScene(ctx, renderer, scene, t, light, edges, point, opaque, held, translucent,
+                    addCaptionStrip(ctx.out, result.caption));
 }
 
 }  // namespace penumbra_volumes_view

@@ -51,45 +51,8 @@ public:
         const float r = lightRadiusOf(light);
         const PvmGeometry g = buildPvmGeometry(scene, casters_, ctx.sceneTime(true), light.position, r);
         const float w = pvmExtrusionLength(ctx.sceneBounds(), light.position);
-        MeshData& lines = ctx.mesh("silhouettes");
-        MeshData& volumes = ctx.mesh("penumbra_volumes");
-        lines = MeshData{};
-        volumes = MeshData{};
-        lines.verticesPerPrimitive = 2;
-        std::vector<float> object, boundary, prev, next, degenerate;
-        std::vector<float> edgeOf, side, volumeObject;
-        for (size_t i = 0; i < g.edges.size(); ++i) {
-            const PvmEdge& e = g.edges[i];
-            const uint32_t base = uint32_t(lines.positions.size());
-            lines.positions.push_back(e.a);
-            lines.positions.push_back(e.b);
-            lines.indices.insert(lines.indices.end(), {base, base + 1});
-            const float id = float(scene.objects[size_t(e.object)].id);
-            object.push_back(id);
-            boundary.push_back(e.boundary ? 1.0f : 0.0f);
-            prev.push_back(float(e.prev));
-            next.push_back(float(e.next));
-            degenerate.push_back(e.degenerate ? 1.0f : 0.0f);
-            if (e.degenerate) continue;
-            // Outer then inner quadrilateral, two triangles each: a, a + w v_a, b + w v_b, b.
-            for (float s : {shared::PVM_OUTER, shared::PVM_INNER}) {
-                const std::array<glm::vec3, 4> q = pvmQuad(e, s, w);
-                const uint32_t v = uint32_t(volumes.positions.size());
-                volumes.positions.insert(volumes.positions.end(), q.begin(), q.end());
-                volumes.indices.insert(volumes.indices.end(), {v, v + 1, v + 2, v, v + 2, v + 3});
-                for (int t = 0; t < 2; ++t) {
-                    edgeOf.push_back(float(i));
-                    side.push_back(s == shared::PVM_OUTER ? 0.0f : 1.0f);
-                    volumeObject.push_back(id);
-                }
-            }
-        }
-        lines.primitiveAttributes = {{"object", object},
-                                     {"boundary", boundary},
-                                     {"prev", prev},
-                                     {"next", next},
-                                     {"degenerate", degenerate}};
-        volumes.primitiveAttributes = {{"edge", edgeOf}, {"side", side}, {"object", volumeObject}};
+        writePvmMeshes(scene, g, [w](const PvmEdge& e, float side) { return pvmQuad(e, side, w); },
+                       ctx.mesh("silhouettes"), ctx.mesh("penumbra_volumes"));
         for (const std::string& warning : g.warnings)
             if (warned_.insert(warning).second) std::fprintf(stderr, "shadowlab: warning: pvm: %s\n", warning.c_str());
     }

@@ -5,6 +5,7 @@
 // views draw exactly these quads, the GPU rasterizes exactly these quads.
 #pragma once
 #include <array>
+#include <functional>
 #include <glm/glm.hpp>
 #include <optional>
 #include <string>
@@ -66,6 +67,15 @@ struct RecordReceiver {
     float front = 0.0f;
 };
 std::optional<RecordReceiver> beginReceiverRecord(PassContext& ctx, glm::ivec2 pixel, nlohmann::json& j);
+
+// The `silhouettes` and `penumbra_volumes` meshes both volume techniques draw and export: per edge
+// a line (attributes object, boundary, prev, next, degenerate) and, unless degenerate, the outer
+// then the inner quad `quad(edge, side)` as two triangles (attributes edge, side 0 outer / 1 inner,
+// object). An edge seen end-on from the light centre casts no penumbra of its own: its neighbours'
+// volumes cover its point.
+void writePvmMeshes(const Scene& scene, const PvmGeometry& g,
+                    const std::function<std::array<glm::vec3, 4>(const PvmEdge&, float side)>& quad, MeshData& lines,
+                    MeshData& volumes);
 
 // The extrusion length w for a scene: twice the distance from the light centre to the farthest
 // corner of the bounds, so that a + w v (v unit, pointing away from the light) lies outside them.

@@ -58,43 +58,19 @@ public:
         const float se = float(ctx.param("s_e"));
         const PvmGeometry g = buildPvmGeometry(scene, casters_, ctx.sceneTime(true), light.position, r);
         const float w = pvmExtrusionLength(ctx.sceneBounds(), light.position);
-        MeshData& lines = ctx.mesh("silhouettes");
         MeshData& volumes = ctx.mesh("penumbra_volumes");
-        lines = MeshData{};
-        volumes = MeshData{};
-        lines.verticesPerPrimitive = 2;
-        std::vector<float> object, boundary, degenerate;
-        std::vector<float> edgeOf, side, volumeObject, edgeDistance;
-        for (size_t i = 0; i < g.edges.size(); ++i) {
-            const PvmEdge& e = g.edges[i];
-            const uint32_t base = uint32_t(lines.positions.size());
-            lines.positions.push_back(e.a);
-            lines.positions.push_back(e.b);
-            lines.indices.insert(lines.indices.end(), {base, base + 1});
-            const float id = float(scene.objects[size_t(e.object)].id);
-            object.push_back(id);
-            boundary.push_back(e.boundary ? 1.0f : 0.0f);
-            degenerate.push_back(e.degenerate ? 1.0f : 0.0f);
-            // An edge seen end-on from the light centre casts no penumbra of its own; its neighbours'
-            // volumes cover its point (as in pvm).
-            if (e.degenerate) continue;
-            const float de = shared::pvmfEdgeDistance(e.a, e.b, light.position);
-            for (float s : {shared::PVM_OUTER, shared::PVM_INNER}) {
-                const std::array<glm::vec3, 4> q = pvmfQuad(e, light.position, r, se, s, w);
-                const uint32_t v = uint32_t(volumes.positions.size());
-                volumes.positions.insert(volumes.positions.end(), q.begin(), q.end());
-                volumes.indices.insert(volumes.indices.end(), {v, v + 1, v + 2, v, v + 2, v + 3});
-                for (int t = 0; t < 2; ++t) {
-                    edgeOf.push_back(float(i));
-                    side.push_back(s == shared::PVM_OUTER ? 0.0f : 1.0f);
-                    volumeObject.push_back(id);
-                    edgeDistance.push_back(de);
-                }
-            }
+        writePvmMeshes(scene, g,
+                       [&](const PvmEdge& e, float side) { return pvmfQuad(e, light.position, r, se, side, w); },
+                       ctx.mesh("silhouettes"), volumes);
+        // d_e per volume triangle, the mask's second channel (sec. 5.1).
+        const std::vector<float>& edgeOf = volumes.primitiveAttributes[0].second;
+        std::vector<float> edgeDistance;
+        edgeDistance.reserve(edgeOf.size());
+        for (float e : edgeOf) {
+            const PvmEdge& edge = g.edges[size_t(e)];
+            edgeDistance.push_back(shared::pvmfEdgeDistance(edge.a, edge.b, light.position));
         }
-        lines.primitiveAttributes = {{"object", object}, {"boundary", boundary}, {"degenerate", degenerate}};
-        volumes.primitiveAttributes = {
-            {"edge", edgeOf}, {"side", side}, {"object", volumeObject}, {"edge_distance", edgeDistance}};
+        volumes.primitiveAttributes.push_back({"edge_distance", std::move(edgeDistance)});
         for (const std::string& warning : g.warnings)
             if (warned_.insert(warning).second) std::fprintf(stderr, "shadowlab: warning: pvmf: %s\n", warning.c_str());
     }
