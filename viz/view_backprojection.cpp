@@ -85,8 +85,7 @@ std::string recordList(const LightState& l) {
     return "";
 }
 
-std::string refusal(const Renderer& renderer, const ViewRequest& request) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string refusal(const LightState& l, const ViewRequest& request) {
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     if (recordList(l).empty())
         return "technique " + l.desc->id +

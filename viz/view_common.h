@@ -84,7 +84,7 @@ struct ViewDesc {
     ViewInfo info;
     // "" when the view applies to the light's technique for this request; else the reason (the
     // refusal names the technique). Called before anything renders.
-    std::function<std::string(const Renderer&, const ViewRequest&)> refusal;
+    std::function<std::string(const LightState&, const ViewRequest&)> refusal;
     // Builds the pipelines into ctx.out (renderers, actors), fills the caption and data, and writes
     // the export when asked. renderView renders the picture afterwards.
     std::function<void(ViewContext& ctx, ViewResult& result)> build;

@@ -41,8 +41,7 @@ bool hasHsm(const LightState& l) {
     return i && i->kind == InternalDesc::Kind::Pyramid && i->channels.size() >= 2;
 }
 
-std::string refusal(const Renderer& renderer, const ViewRequest& request) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string refusal(const LightState& l, const ViewRequest& request) {
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     if (!hasHsm(l)) return "technique " + l.desc->id + " builds no min/max pyramid (a pyramid internal 'hsm' with min and max)";
     return "";

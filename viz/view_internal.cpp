@@ -49,8 +49,7 @@ std::string chosenName(const LightState& l, const ViewRequest& request) {
     return names.empty() ? "" : names.front();
 }
 
-std::string refusal(const Renderer& renderer, const ViewRequest& request) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string refusal(const LightState& l, const ViewRequest& request) {
     std::vector<std::string> names = available(l);
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     if (names.empty()) return "technique " + l.desc->id + " declares no image or pyramid internal that applies now";

@@ -42,8 +42,7 @@ const InternalDesc* kernelInternal(const LightState& l, std::vector<int>* channe
     return nullptr;
 }
 
-std::string refusal(const Renderer& renderer, const ViewRequest& request) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string refusal(const LightState& l, const ViewRequest& request) {
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     if (!kernelInternal(l, nullptr))
         return "technique " + l.desc->id + " exposes no kernel size (an image internal with a 'kernel_size' or 'kernel_*' channel)";
@@ -133,8 +132,7 @@ std::vector<const InternalDesc*> reuseInternals(const LightState& l) {
     return out;
 }
 
-std::string refusal(const Renderer& renderer, const ViewRequest& request) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string refusal(const LightState& l, const ViewRequest& request) {
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     if (reuseInternals(l).empty()) return "technique " + l.desc->id + " has no reuse maps (internals named reuse*: sssm)";
     return "";

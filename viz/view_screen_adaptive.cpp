@@ -77,8 +77,7 @@ bool appliesNow(const InternalDesc& i, const LightState& l) {
 // Shared with the pull-push view: "" when the light's technique writes the screen-adaptive
 // internals `names` now, else why not (the technique has none; or it has them only when its
 // screen_adaptive parameter is on, and says to turn it on).
-std::string screenAdaptiveRefusal(const Renderer& renderer, const ViewRequest& request, const std::vector<std::string>& names) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string screenAdaptiveRefusal(const LightState& l, const ViewRequest& request, const std::vector<std::string>& names) {
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     for (const std::string& name : names) {
         const InternalDesc* i = l.desc->findInternal(name);
@@ -108,8 +107,8 @@ std::array<size_t, 7> selectionCounts(const Image& selection) {
 
 namespace {
 
-std::string skippedPixelsRefusal(const Renderer& renderer, const ViewRequest& request) {
-    return screenAdaptiveRefusal(renderer, request, {"selection"});
+std::string skippedPixelsRefusal(const LightState& l, const ViewRequest& request) {
+    return screenAdaptiveRefusal(l, request, {"selection"});
 }
 
 vtkSmartPointer<vtkLookupTable> classLut() {
@@ -287,8 +286,8 @@ constexpr double kGroupGap = 0.12;                // between the pull and the pu
 constexpr double kLayoutShare = 0.80;             // of the picture's width (the bars have the rest)
 const char* const kNames[] = {"visibility_sparse", "pull_push.pull", "pull_push.push"};
 
-std::string pullPushRefusal(const Renderer& renderer, const ViewRequest& request) {
-    return screenAdaptiveRefusal(renderer, request, {kNames[0], kNames[1], kNames[2]});
+std::string pullPushRefusal(const LightState& l, const ViewRequest& request) {
+    return screenAdaptiveRefusal(l, request, {kNames[0], kNames[1], kNames[2]});
 }
 
 // The pull-push levels drawn, of `levels` (0 .. top): all when they fit, else the first

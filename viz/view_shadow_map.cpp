@@ -22,8 +22,7 @@ const glm::vec3 kTexelRgb(1.0f, 0.2f, 1.0f), kReadRgb(1.0f, 0.45f, 0.0f);
 
 std::string mapName(const ViewRequest& request) { return request.internal.empty() ? "shadow_map" : request.internal; }
 
-std::string refusal(const Renderer& renderer, const ViewRequest& request) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string refusal(const LightState& l, const ViewRequest& request) {
     const std::string name = mapName(request);
     const InternalDesc* i = l.desc->findInternal(name);
     if (!i || i->kind != InternalDesc::Kind::Image)

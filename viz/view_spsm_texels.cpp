@@ -94,8 +94,7 @@ bool hasSpsmRecord(const LightState& l) {
     return false;
 }
 
-std::string refusal(const Renderer& renderer, const ViewRequest& request) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string refusal(const LightState& l, const ViewRequest& request) {
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     const InternalDesc* b = l.desc->findInternal("branches");
     if (!hasSpsmRecord(l) || !b || b->kind != InternalDesc::Kind::Image)

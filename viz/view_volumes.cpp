@@ -182,8 +182,7 @@ using Cells = ViewCells;
 
 enum Part { kScene = 0, kLight = 1, kSilhouette = 2, kWedge = 3, kPicked = 4 };
 
-std::string refusal(const Renderer& renderer, const ViewRequest& request) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string refusal(const LightState& l, const ViewRequest& request) {
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     if (!declaresInternal(l, "wedges", InternalDesc::Kind::Mesh) ||
         !declaresInternal(l, "silhouettes", InternalDesc::Kind::Lines))
@@ -340,8 +339,7 @@ enum Part { kScene = 0, kLight = 1, kSilhouette = 2, kVolume = 3, kPicked = 4 };
 
 const glm::vec3 kOuterRgb(1.0f, 0.55f, 0.15f), kInnerRgb(0.25f, 0.55f, 1.0f), kEdgeRgb(0.95f, 0.95f, 0.95f);
 
-std::string refusal(const Renderer& renderer, const ViewRequest& request) {
-    const LightState& l = *renderer.lights().at(size_t(request.light));
+std::string refusal(const LightState& l, const ViewRequest& request) {
     if (!l.light.castsShadows) return "light " + std::to_string(request.light) + " casts no shadows";
     if (!declaresInternal(l, "penumbra_volumes", InternalDesc::Kind::Mesh) ||
         !declaresInternal(l, "silhouettes", InternalDesc::Kind::Lines))

@@ -409,7 +409,12 @@ float viewAspect(const Renderer& renderer, const ViewRequest& request, float fra
 std::string viewRefusal(const Renderer& renderer, const ViewRequest& request) {
     const ViewDesc& view = requireView(request.view);
     checkRequest(renderer, request);
-    return view.refusal ? view.refusal(renderer, request) : "";
+    return view.refusal ? view.refusal(*renderer.lights().at(size_t(request.light)), request) : "";
+}
+
+std::string viewRefusal(const LightState& light, const ViewRequest& request) {
+    const ViewDesc& view = requireView(request.view);
+    return view.refusal ? view.refusal(light, request) : "";
 }
 
 static void checkRequest(const Renderer& renderer, const ViewRequest& request) {
@@ -430,7 +435,8 @@ static void checkRequest(const Renderer& renderer, const ViewRequest& request) {
 ViewResult renderView(Renderer& renderer, const Scene& scene, const ViewRequest& request, VtkOffscreen& out) {
     const ViewDesc& view = requireView(request.view);
     checkRequest(renderer, request);
-    if (std::string why = view.refusal ? view.refusal(renderer, request) : ""; !why.empty())
+    if (std::string why = view.refusal ? view.refusal(*renderer.lights().at(size_t(request.light)), request) : "";
+        !why.empty())
         throw InputError("view " + view.info.name + ": " + why);
     if (!request.exportPath.empty() &&
         std::filesystem::path(request.exportPath).extension().string() != view.info.exportExtension)

@@ -17,6 +17,7 @@
 namespace shadowlab {
 
 class Renderer;
+struct LightState;
 struct Scene;
 class VtkOffscreen;
 class OutputSet;
@@ -59,6 +60,9 @@ std::vector<ViewInfo> listViews();
 // An unknown view, a pixel outside the image, an unknown light or a bad ray count or zoom are
 // InputErrors.
 std::string viewRefusal(const Renderer& renderer, const ViewRequest& request);
+// The same for one light resolved without a renderer or a GL context (Renderer::resolveLights):
+// what `lesson --check` asks of every `show` (the light, pixel and ray checks need the renderer).
+std::string viewRefusal(const LightState& light, const ViewRequest& request);
 // The picture's width / height at which the view's panels fill it (the error view's two frame
 // images side by side: ~2x the frame's aspect; the shadow map with a close-up: ~1.4; a 3D view:
 // 4:3), for a request the view does not refuse; 4:3 when it does.

@@ -226,6 +226,33 @@ int commandBench(const std::vector<std::string>& args) {
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
 
+    if (!quiet && total > 0) {
+        // The run's time, said before it starts: one frame of each technique (its first setting,
+        // after one warm-up frame) on the first scene at the bench size, timed with the renderer's
+        // construction, then scaled by the frames every setting of that technique runs on every
+        // scene and light size. Settings of one technique that cost differently (an sm_size sweep)
+        // make this rougher; the per-setting "left" below corrects it as the run goes.
+        std::map<std::string, double> frameMs;
+        double estimate = 0.0;
+        for (const Setting& setting : settings) {
+            auto it = frameMs.find(setting.technique);
+            if (it == frameMs.end()) {
+                const auto t0 = std::chrono::steady_clock::now();
+                measureSetting(scenes.front(), labels.front(), spec.width, spec.height, spec.lightSizes.front(), setting, 1, 1,
+                               nullptr, context->isSoftwareRasterizer());
+                const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+                it = frameMs.emplace(setting.technique, ms / 2.0).first;
+            }
+            estimate += it->second * double(spec.warmup + spec.frames);
+        }
+        estimate *= double(scenes.size() * spec.lightSizes.size()) / 1000.0;
+        std::fprintf(stderr,
+                     "bench: %zu setting(s) x %zu scene(s) x %zu light size(s) = %zu renders of %d frames at %dx%d: about "
+                     "%.0f s (from one probe frame per technique), plus the references not yet in the cache\n",
+                     settings.size(), scenes.size(), spec.lightSizes.size(), total, spec.warmup + spec.frames, spec.width,
+                     spec.height, estimate);
+    }
+
     std::vector<Measurement> rows;
     std::vector<nlohmann::json> references;
     size_t done = 0;

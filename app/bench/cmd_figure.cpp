@@ -219,56 +219,6 @@ Image composeFigure(const FigureSpec& spec, const std::vector<std::vector<Cell>>
     return out;
 }
 
-// What `figure --remake` reads back from a figure's sidecar, each field checked with its type and
-// range (a tampered sidecar was read through nlohmann's unchecked const operator[]: "type must be
-// number, but is number", exit 1, and undefined behaviour for a missing key).
-struct FigureSidecar {
-    std::string spec;      // the recorded spec, as JSON text (read with the spec's own rules)
-    std::string specFile;  // the spec's file when it was made
-    std::string out;
-    std::string date;
-    struct OldCell {
-        double labelShadowMs = 0.0;
-        double rmse = NAN;  // null when the original RMSE was not a number
-    };
-    std::vector<OldCell> cells;
-    std::optional<float> errorMax;
-};
-
-FigureSidecar readFigureSidecar(const JsonDocument& doc) {
-    const JsonReader r(doc);
-    const json& root = doc.root();
-    r.requireObject(root, "");
-    auto field = [&](const char* key) -> const json* {
-        const auto it = root.find(key);
-        return it == root.end() ? nullptr : &*it;
-    };
-    if (!field("shadowlab_figure") || !field("spec") || !field("cells"))
-        r.fail("", "a figure sidecar (with shadowlab_figure, spec and cells)", "another JSON object");
-    FigureSidecar side;
-    r.integer(*field("shadowlab_figure"), "shadowlab_figure", 1, 1);
-    r.requireObject(*field("spec"), "spec");
-    side.spec = field("spec")->dump();
-    if (const json* v = field("spec_file")) side.specFile = r.string(*v, "spec_file");
-    if (const json* v = field("out")) side.out = r.string(*v, "out");
-    if (const json* v = field("date")) side.date = r.string(*v, "date");
-    if (const json* v = field("error_max")) side.errorMax = float(r.number(*v, "error_max", greaterThan(0.0)));
-    const json& cells = *field("cells");
-    if (!cells.is_array()) r.fail("cells", "an array of the figure's cells", describeJson(cells));
-    for (size_t i = 0; i < cells.size(); ++i) {
-        const std::string p = elementPath("cells", i);
-        r.requireObject(cells[i], p);
-        FigureSidecar::OldCell c;
-        const auto label = cells[i].find("label_shadow_ms");
-        if (label == cells[i].end()) r.fail(fieldPath(p, "label_shadow_ms"), "a number >= 0", "nothing (the field is required)");
-        c.labelShadowMs = r.number(*label, fieldPath(p, "label_shadow_ms"), inRange(0.0, 1e9));
-        const auto rmse = cells[i].find("rmse");
-        if (rmse != cells[i].end() && !rmse->is_null()) c.rmse = r.number(*rmse, fieldPath(p, "rmse"), atLeast(0.0));
-        side.cells.push_back(c);
-    }
-    return side;
-}
-
 int runFigure(const FigureSpec& spec, const std::string& specFile, const std::string& out, const std::string& cacheDir,
               const FigureSidecar* remakeFrom, const std::string& gl) {
     if (!std::getenv("LP_NUM_THREADS"))
@@ -289,11 +239,12 @@ int runFigure(const FigureSpec& spec, const std::string& specFile, const std::st
         for (size_t c = 0; c < spec.columns.size(); ++c) {
             Setting setting = spec.columns[c].setting;
             const TechniqueDesc& d = requireTechnique(setting.technique, "columns");
-            for (const auto& [k, v] : row.sets)
-                if (d.findParam(k)) {
-                    setting.sets.erase(std::remove_if(setting.sets.begin(), setting.sets.end(), [&](const auto& p) { return p.first == k; }),
+            for (const auto& kv : row.sets)
+                if (d.findParam(kv.first)) {
+                    setting.sets.erase(std::remove_if(setting.sets.begin(), setting.sets.end(),
+                                                      [&](const auto& p) { return p.first == kv.first; }),
                                        setting.sets.end());
-                    setting.sets.push_back({k, v});
+                    setting.sets.push_back(kv);
                 }
             std::fprintf(stderr, "figure: [%zu/%zu] %s %s %s\n", r * spec.columns.size() + c + 1,
                          spec.rows.size() * spec.columns.size(), row.scene.c_str(), setting.technique.c_str(),

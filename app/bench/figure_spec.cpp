@@ -175,4 +175,38 @@ json specJson(const FigureSpec& s) {
     return j;
 }
 
+FigureSidecar readFigureSidecar(const JsonDocument& doc) {
+    const JsonReader r(doc);
+    const json& root = doc.root();
+    r.requireObject(root, "");
+    auto field = [&](const char* key) -> const json* {
+        const auto it = root.find(key);
+        return it == root.end() ? nullptr : &*it;
+    };
+    if (!field("shadowlab_figure") || !field("spec") || !field("cells"))
+        r.fail("", "a figure sidecar (with shadowlab_figure, spec and cells)", "another JSON object");
+    FigureSidecar side;
+    r.integer(*field("shadowlab_figure"), "shadowlab_figure", 1, 1);
+    r.requireObject(*field("spec"), "spec");
+    side.spec = field("spec")->dump();
+    if (const json* v = field("spec_file")) side.specFile = r.string(*v, "spec_file");
+    if (const json* v = field("out")) side.out = r.string(*v, "out");
+    if (const json* v = field("date")) side.date = r.string(*v, "date");
+    if (const json* v = field("error_max")) side.errorMax = float(r.number(*v, "error_max", greaterThan(0.0)));
+    const json& cells = *field("cells");
+    if (!cells.is_array()) r.fail("cells", "an array of the figure's cells", describeJson(cells));
+    for (size_t i = 0; i < cells.size(); ++i) {
+        const std::string p = elementPath("cells", i);
+        r.requireObject(cells[i], p);
+        FigureSidecar::OldCell c;
+        const auto label = cells[i].find("label_shadow_ms");
+        if (label == cells[i].end()) r.fail(fieldPath(p, "label_shadow_ms"), "a number >= 0", "nothing (the field is required)");
+        c.labelShadowMs = r.number(*label, fieldPath(p, "label_shadow_ms"), inRange(0.0, 1e9));
+        const auto rmse = cells[i].find("rmse");
+        if (rmse != cells[i].end() && !rmse->is_null()) c.rmse = r.number(*rmse, fieldPath(p, "rmse"), atLeast(0.0));
+        side.cells.push_back(c);
+    }
+    return side;
+}
+
 }  // namespace shadowlab

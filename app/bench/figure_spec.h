@@ -51,4 +51,21 @@ FigureSpec parseFigureSpec(const JsonDocument& doc);
 // parseFigureSpec of its text gives the same spec again.
 nlohmann::json specJson(const FigureSpec& s);
 
+// What `figure --remake` reads back from a figure's sidecar, each field checked with its type and
+// range (a tampered sidecar was read through nlohmann's unchecked const operator[]: "type must be
+// number, but is number", exit 1, and undefined behaviour for a missing key).
+struct FigureSidecar {
+    std::string spec;      // the recorded spec, as JSON text (read with the spec's own rules)
+    std::string specFile;  // the spec's file when it was made
+    std::string out;
+    std::string date;
+    struct OldCell {
+        double labelShadowMs = 0.0;
+        double rmse = NAN;  // null when the original RMSE was not a number
+    };
+    std::vector<OldCell> cells;
+    std::optional<float> errorMax;
+};
+FigureSidecar readFigureSidecar(const JsonDocument& doc);
+
 }  // namespace shadowlab

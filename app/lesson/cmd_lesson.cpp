@@ -95,6 +95,7 @@ int commandLesson(const std::vector<std::string>& args) {
     size_t tasks = 0;
     for (const LessonStep& s : lesson.steps) tasks += s.task.has_value();
     if (opts.has("--check") && !headless) {
+        checkLessonViews(lesson);  // a view its technique cannot give, named by line (no rendering)
         std::printf("%s: %s: %zu steps, %zu tasks, valid\n", lesson.file.c_str(), lesson.title.c_str(),
                     lesson.steps.size(), tasks);
         if (!opts.has("--sizes")) return 0;
@@ -136,7 +137,7 @@ int commandLesson(const std::vector<std::string>& args) {
         // The player in the window (`shadowlab lesson L` is `shadowlab window --lesson L`, with the
         // window's options); without a display, runWindow says so (exit 2) and names --headless.
         std::vector<std::string> windowArgs = {"--lesson", opts.positional()[0]};
-        for (const char* flag : {"--size", "--screenshot", "--frames", "--script", "--report", "--ui-scale"})
+        for (const char* flag : {"--size", "--screenshot", "--frames", "--script", "--report", "--ui-scale", "--max-memory-mb"})
             if (opts.has(flag)) windowArgs.insert(windowArgs.end(), {flag, opts.get(flag)});
         if (opts.has("--present")) windowArgs.push_back("--present");
         return runWindow(windowArgs);

@@ -81,6 +81,10 @@ std::map<std::string, Image> collectInternals(Renderer& renderer, const std::set
 // The images of one view of the host's current state (app/lesson/step_views.cpp): "technique" (the
 // shaded image, with the split and the picked pixel), or one of lessonViews().
 Image renderLessonView(RendererLessonHost& host, const std::string& view);
+// Every `show` of every step (and of its answer) asked of the step's technique without rendering,
+// as `lesson --check` does without --sizes: a view its technique cannot give (`show hsm` under
+// `hard`) is an InputError naming the step's file and line. Loads the lessons' scenes; no GL.
+void checkLessonViews(const Lesson& lesson);
 
 // Every failing expectation of a lesson at one size, one per line:
 // "lessons/intro.md:42 at 320x320: expect mean(visibility in penumbra) > 0.3: 0.21".

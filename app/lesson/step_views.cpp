@@ -2,6 +2,7 @@
 // visibility buffers as grey images here, every other view through viz/views.h (renderView).
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "error.h"
 #include "gl/texture.h"
@@ -112,6 +113,35 @@ Image renderLessonView(RendererLessonHost& host, const std::string& view) {
     }
     Renderer& renderer = host.technique();
     return renderView(renderer, host.scene(), request).image;
+}
+
+void checkLessonViews(const Lesson& lesson) {
+    std::map<std::string, Scene> scenes;
+    const std::vector<ViewInfo> vtkViews = listViews();
+    for (const LessonStep& step : lesson.steps)
+        for (const LessonState* state : {&step.state, step.answerState ? &*step.answerState : nullptr}) {
+            if (!state) continue;
+            for (const std::string& view : state->views) {
+                // The pictures made here (technique, visibility, reference, texels) apply to every technique.
+                if (std::none_of(vtkViews.begin(), vtkViews.end(), [&](const ViewInfo& v) { return v.name == view; }))
+                    continue;
+                auto it = scenes.find(state->scene);
+                if (it == scenes.end()) it = scenes.emplace(state->scene, loadScene(state->scene)).first;
+                Scene scene = it->second;
+                scene.lights = state->lights;
+                RenderOptions options;
+                options.technique = state->technique;
+                options.sets = state->paramTexts();
+                const std::string where = step.where.str() + ": show " + view + " (technique " + state->technique + "): ";
+                const std::vector<LightState> lights = Renderer::resolveLights(scene, options);
+                if (lights.empty()) throw InputError(where + "view " + view + ": the scene has no light");
+                ViewRequest request;
+                request.view = view;
+                if (state->pick) request.pixel = glm::ivec2(0);  // the refusals ask whether a pixel is picked, not which
+                if (std::string why = viewRefusal(lights.front(), request); !why.empty())
+                    throw InputError(where + "view " + view + ": " + why);
+            }
+        }
 }
 
 }  // namespace shadowlab

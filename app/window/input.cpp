@@ -324,7 +324,10 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         // frames, pixels and counts: the runner reads them with stoi): never NaN, never a value
         // the runner cannot hold ("wait 99999999999" was an uncaught out_of_range, "ui-scale nan"
         // an ImGui assertion).
-        auto number = [&](const std::string& s, double lo = -1e6, double hi = 1e6, bool whole = false,
+        // The argument is then rewritten in the form the runner reads back exactly (stoi of "1e3"
+        // was 1 and of "0x10" 0 where stod had checked 1000 and 16; stof of "1e-50" threw
+        // out_of_range): what was checked is what runs.
+        auto number = [&](std::string& s, double lo = -1e6, double hi = 1e6, bool whole = false,
                           const char* what = "a number") {
             double v = std::nan("");
             try {
@@ -337,6 +340,14 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
                 char range[96];
                 std::snprintf(range, sizeof range, "%s%s in [%g, %g]", whole ? "a whole number of " : "", what, lo, hi);
                 throw InputError(where + c.verb + ": expected " + range + ", got '" + s + "'");
+            }
+            if (whole) {
+                s = std::to_string(static_cast<long long>(v));
+            } else {
+                const float f = std::abs(v) < 1e-30 ? 0.0f : float(v);
+                char text[32];
+                std::snprintf(text, sizeof text, "%.9g", double(f));
+                s = text;
             }
             return v;
         };

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "cli/resource_limits.h"
 #include "error.h"
 #include "gl/context.h"
 #include "lesson/lesson.h"
@@ -166,6 +167,21 @@ void Window::setStatus(const std::string& text, bool error) {
     if (error) std::fprintf(stderr, "shadowlab window: %s\n", text.c_str());
 }
 
+std::string Window::memoryRefusal(const std::string& technique, const std::map<std::string, std::string>& params) const {
+    if (!scene_ || technique == "raytraced" || technique == "reference") return "";  // their renderers run hard
+    RenderOptions options;
+    const glm::ivec2 size = renderSize();
+    options.width = size.x;
+    options.height = size.y;
+    options.technique = technique;
+    for (const auto& [key, value] : params) options.sets.push_back({key, value});
+    const double bytes = estimateRenderBytes(*scene_, options);
+    if (bytes <= double(state_.maxMemoryMB) * 1e6) return "";
+    return technique + " with these parameters would need about " + std::to_string(int(bytes / 1e6)) +
+           " MB at " + std::to_string(size.x) + "x" + std::to_string(size.y) + ", over the limit of " +
+           std::to_string(state_.maxMemoryMB) + " MB (--max-memory-mb N raises it): not applied";
+}
+
 bool Window::rebuildScene() {
     std::unique_ptr<Scene> scene;
     try {
@@ -274,6 +290,10 @@ void Window::selectTechnique(const std::string& id) {
         setStatus("unknown technique '" + id + "'", true);
         return;
     }
+    if (const std::string why = memoryRefusal(id, {}); !why.empty()) {
+        setStatus(why, true);
+        return;
+    }
     state_.technique = id;
     statsValid_ = false;
     state_.params.clear();  // setTechnique starts at the technique's defaults
@@ -320,6 +340,12 @@ void Window::setParam(const std::string& key, const std::string& value) {
         return;
     }
     try {
+        std::map<std::string, std::string> next = state_.params;
+        next[key] = value;
+        if (const std::string why = memoryRefusal(state_.technique, next); !why.empty()) {
+            setStatus(why, true);
+            return;
+        }
         renderer_->setParam(key, value, -1, "window");
         state_.params[key] = value;
         touch();
@@ -1113,7 +1139,7 @@ size_t indexOf(const std::vector<std::string>& list, const std::string& value, c
 int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
     Options opts("window", args, 0,
                  {"--scene", "--technique", "--size", "--screenshot", "--frames", "--script", "--report", "--ui-scale",
-                  "--lesson"},
+                  "--lesson", "--max-memory-mb"},
                  {"--no-reduce", "--present"});
     if (!opts.positional().empty()) throw InputError("window: unexpected argument '" + opts.positional()[0] + "'");
     WindowState state;
@@ -1140,6 +1166,25 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
     if (opts.has("--lesson")) {
         lesson = loadLesson(opts.get("--lesson"));
         state.scene = lesson->steps.front().state.scene;
+    }
+
+    // The memory estimate the commands apply, for the first technique at the window's size, before
+    // the window opens (later switches are checked as they are asked for: Window::memoryRefusal).
+    state.maxMemoryMB = opts.getInt("--max-memory-mb", kDefaultMaxMemoryMB, 16, 1 << 20);
+    if (state.technique != "raytraced" && state.technique != "reference") {
+        RenderOptions first;
+        first.width = width;
+        first.height = height;
+        first.technique = lesson ? lesson->steps.front().state.technique : state.technique;
+        if (lesson) first.sets = lesson->steps.front().state.paramTexts();
+        Scene scene = loadScene(state.scene);
+        if (lesson) scene.lights = lesson->steps.front().state.lights;
+        try {
+            checkRenderMemory(scene, first, opts);
+        } catch (const InputError& e) {
+            throw InputError("window: " + first.technique + " at " + std::to_string(width) + "x" + std::to_string(height) +
+                             ": " + e.what());
+        }
     }
 
     glfwSetErrorCallback(onGlfwError);

@@ -50,6 +50,9 @@ struct WindowState {
     std::string scene;      // a name in assets/scenes, or a path to a .json scene or a .gltf/.glb file
     std::string technique;  // "reference" / "raytraced" show that progressive reference
     std::map<std::string, std::string> params;  // parameters set away from the defaults (key -> value)
+    // --max-memory-mb: a technique or parameter whose estimated memory at the render size
+    // (estimateRenderBytes, as the commands estimate) is over this is refused in the status line.
+    int maxMemoryMB = 4096;
     int lightIndex = 0;     // the light the light controls edit
     Camera camera;          // the current camera (starts at the scene's)
     std::vector<Light> lights;  // the current lights (start at the scene's)
@@ -314,6 +317,8 @@ private:
     void noteInput() { lastInput_ = clock::now(); }  // a drag, wheel or arrow key: render reduced for a moment
     void updateMetrics();
     void setStatus(const std::string& text, bool error = false);
+    // "" when `technique` with `params` fits the memory limit at the render size; else the reason.
+    std::string memoryRefusal(const std::string& technique, const std::map<std::string, std::string>& params) const;
     glm::vec2 windowSize() const;   // the whole window, in window units
     float aspect() const;           // the technique view's
     void updateLayout();            // layout_ from the window's size, the scale and what is open

@@ -473,6 +473,18 @@ TEST(BadInputNumbers, AViewTheTechniqueCannotGiveNamesTheLessonLine) {
                                                    "```shadowlab\nshow hsm\n```\n\nText.\n");
     expectRefused("lesson " + lesson + " --headless --size 32x32 --out " + tmp("h"), {"hsm.md:8: show hsm (technique hard)"});
     EXPECT_FALSE(fs::exists(tmp("h")));
+    // --check without --sizes renders nothing, and asks every view of its technique all the same
+    // (it said "valid" before).
+    expectRefused("lesson " + lesson + " --check", {"hsm.md:8: show hsm (technique hard): view hsm: technique hard builds no "
+                                                     "min/max pyramid"});
+    // The same view under a technique that has one is valid; a view that needs a pick says so.
+    const std::string good = writeFile("hsm-ok.md", "# L\n\n```shadowlab\nscene square-occluder\ntechnique ssm-gbp06\n```\n\n"
+                                                    "## One\n\n```shadowlab\nshow hsm\n```\n\nText.\n");
+    const Result r = run("lesson " + good + " --check");
+    EXPECT_EQ(r.code, 0) << r.output;
+    const std::string nopick = writeFile("bp.md", "# L\n\n```shadowlab\nscene square-occluder\ntechnique ssm-contour\n```\n\n"
+                                                  "## One\n\n```shadowlab\nshow backprojection\n```\n\nText.\n");
+    expectRefused("lesson " + nopick + " --check", {"bp.md:8: show backprojection (technique ssm-contour)", "--pixel"});
 }
 
 }  // namespace

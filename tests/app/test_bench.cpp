@@ -337,3 +337,19 @@ TEST_F(AccuracyTimeChartGL, HighlightedSettingIsRingedAndZeroErrorIsDrawn) {
     EXPECT_GT(count(exact.r, exact.g, exact.b), 90);
     stbi_image_free(png);
 }
+
+// Issue 24: the bench says how long it will take before its first setting (it said only the time
+// left after each one): the estimate line comes before the first "[1/N]" line and counts the renders.
+TEST(Bench, TheEstimatedTimeIsPrintedBeforeTheFirstSetting) {
+    const std::string dir = testPath("bench", "estimate");
+    fs::create_directories(dir);
+    const auto r = run("bench --scenes square-occluder --techniques hard,pcf --size 32x32 --frames 2 --warmup 1 --csv " + dir +
+                       "/out.csv --cache " + dir + "/cache");
+    ASSERT_EQ(r.code, 0) << r.output;
+    const size_t estimate = r.output.find("bench: 2 setting(s) x 1 scene(s) x 1 light size(s) = 2 renders of 3 frames at 32x32: about ");
+    ASSERT_NE(estimate, std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(" s (from one probe frame per technique)", estimate), std::string::npos) << r.output;
+    const size_t first = r.output.find("bench: [1/2]");
+    ASSERT_NE(first, std::string::npos) << r.output;
+    EXPECT_LT(estimate, first) << r.output;
+}

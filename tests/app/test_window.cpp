@@ -14,6 +14,7 @@
 #include "image/image.h"
 #include "scene/scene.h"
 #include "support/cli_run.h"
+#include "window/window.h"
 
 namespace {
 
@@ -322,6 +323,41 @@ TEST(Window, ScriptNumbersAreCheckedInTheirTypeAndAScriptIsARegularFile) {
         EXPECT_NE(r.output.find(path + ": cannot read the window script: it is "), std::string::npos) << r.output;
     }
     fs::remove(fifo);
+}
+
+// What the parser checked is what the runner runs: each number is rewritten in the form its
+// conversion (stoi, stof) reads back exactly. Before, "wait 1e3" was checked as 1000 frames and
+// waited 1 (stoi), "pick 0x10 2" was checked as 16 and picked 0, and "split-at 1e-50" passed the
+// check and then threw out_of_range from stof in the running window (exit 1). Found by fuzz_window_script.
+TEST(Window, ScriptNumbersRunAsTheyWereChecked) {
+    std::ofstream(tmp("canon.txt")) << "wait 1e3\npick 0x10 2\nsplit-at 1e-50\nui-scale 1.50\ndrag-light 1e2 -0.5 2.0\n";
+    const std::deque<shadowlab::ScriptCommand> script = shadowlab::parseScript(tmp("canon.txt"));
+    ASSERT_EQ(script.size(), 5u);
+    EXPECT_EQ(script[0].args, std::vector<std::string>({"1000"}));
+    EXPECT_EQ(script[1].args, std::vector<std::string>({"16", "2"}));
+    EXPECT_EQ(script[2].args, std::vector<std::string>({"0"}));
+    EXPECT_EQ(script[3].args, std::vector<std::string>({"1.5"}));
+    EXPECT_EQ(script[4].args, std::vector<std::string>({"100", "-0.5", "2"}));
+    EXPECT_EQ(std::stoi(script[0].args[0]), 1000);
+    EXPECT_EQ(std::stof(script[2].args[0]), 0.0f);  // threw std::out_of_range before
+}
+
+// The window estimates memory as the commands do (issue 24): its first technique at its size
+// before it opens (exit 2, no window), and every later technique or parameter as it is asked for
+// (refused in the status line, the old one kept running).
+TEST(Window, MemoryIsEstimatedBeforeTheWindowOpensAndOnEveryChange) {
+    auto r = runWindow("--scene square-occluder --technique ssm-gbp06 --size 640x480 --max-memory-mb 16");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("window: ssm-gbp06 at 640x480: this render would need about"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("over the limit of 16 MB"), std::string::npos) << r.output;
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    std::ofstream(tmp("memory.txt")) << "wait 2\nparam sm_size 8192\nwait 1\ntechnique ssm-gbp06\nparam sm_size 4096\nwait 1\n";
+    r = runXvfb("window --scene square-occluder --technique hard --size 640x480 --max-memory-mb 200 --script " +
+                tmp("memory.txt") + " --report " + tmp("memory.json"));
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("hard with these parameters would need about"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("over the limit of 200 MB (--max-memory-mb N raises it): not applied"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("ssm-gbp06 with these parameters would need about"), std::string::npos) << r.output;
 }
 
 // `shadowlab` with no arguments and no display renders the default scene headless into

@@ -270,7 +270,14 @@ private:
 
 }  // namespace
 
+namespace {
+void (*beforeHeadlessContext)() = nullptr;
+}  // namespace
+
+void setBeforeHeadlessContext(void (*hook)()) { beforeHeadlessContext = hook; }
+
 std::unique_ptr<GLContext> createHeadlessContext(GLBackend backend) {
+    if (beforeHeadlessContext) beforeHeadlessContext();
     if (backend == GLBackend::OSMesa) return std::make_unique<OSMesaGLContext>();
     if (backend == GLBackend::Egl) return std::make_unique<EglContext>();
     throw InternalError("createHeadlessContext: a GLFW context is made by the window");

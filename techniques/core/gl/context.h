@@ -42,6 +42,10 @@ protected:
 // Creates a headless context (Egl or OSMesa), makes it current and loads the GL functions.
 // Throws InternalError with the reason when the platform cannot give OpenGL 4.5 core.
 std::unique_ptr<GLContext> createHeadlessContext(GLBackend backend);
+// Called by createHeadlessContext before it opens anything, when set. The command-line fuzz target
+// (tests/fuzz/fuzz_cli.cpp) sets one that throws, so a fuzzed command line stops where it would
+// start rendering: what it fuzzes is everything checked before that point. Unset in the program.
+void setBeforeHeadlessContext(void (*hook)());
 
 // For contexts made elsewhere (GLFW): loads GL functions through `loader`, installs debug output,
 // and makes the current context the key of programCache() from now on on this thread. Its cache

@@ -75,23 +75,14 @@ bool writesOnlyFrameTextures(const TechniqueDesc& desc, const PassDesc& pass) {
 
 }  // namespace
 
-Renderer::Renderer(const Scene& scene, const RenderOptions& options)
-    : scene_(scene), options_(options) {
-    pool_.setSpareBytes(options.spareBytes);
-    if (options.width < 1 || options.height < 1 || options.width > 8192 || options.height > 8192)
-        throw InputError("--size: expected WxH with each side in 1..8192, got " + std::to_string(options.width) + "x" +
-                         std::to_string(options.height));
-    if (scene.lights.size() > size_t(kMaxLights))
-        throw InputError(scene.path + ": lights: at most " + std::to_string(kMaxLights) + " lights are supported, got " +
-                         std::to_string(scene.lights.size()));
+std::vector<LightState> Renderer::resolveLights(const Scene& scene, const RenderOptions& options) {
     if (options.lightSize && (!std::isfinite(*options.lightSize) || *options.lightSize < 0.0f))
         throw InputError("--light-size: expected a finite number >= 0");
-
     // Resolve each light's technique and parameters before any GL work, so bad input writes nothing.
     std::set<std::string> usedKeys;
+    std::vector<LightState> lights(scene.lights.size());
     for (size_t i = 0; i < scene.lights.size(); ++i) {
-        auto slot = std::make_unique<LightSlot>();
-        LightState& state = slot->state;
+        LightState& state = lights[i];
         state.index = int(i);
         state.group = "L" + std::to_string(i);
         state.light = scene.lights[i];
@@ -112,21 +103,41 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
                 usedKeys.insert(key);
             }
         }
-        lights_.push_back(std::move(slot));
+        std::tie(state.desc, state.params) = techniqueForLight(*state.requested, state.requestedParams, state.light.isPoint());
     }
     for (const auto& [key, value] : options.sets) {
         if (usedKeys.count(key)) continue;
         std::string message = "--set " + key + "=" + value + ": unknown parameter '" + key + "'";
         std::set<std::string> ids;
         std::string known;
-        for (const auto& l : lights_) {
-            if (!ids.insert(l->state.requested->id).second) continue;
-            for (const ParamDesc& p : l->state.requested->params) known += (known.empty() ? "" : ", ") + p.key;
+        for (const LightState& l : lights) {
+            if (!ids.insert(l.requested->id).second) continue;
+            for (const ParamDesc& p : l.requested->params) known += (known.empty() ? "" : ", ") + p.key;
         }
         message += std::string(ids.size() > 1 ? " (the techniques in use accept: " : " (the technique in use accepts: ") +
                    (known.empty() ? std::string("no parameters") : known) + ")";
-        if (lights_.empty()) message = "--set " + key + ": the scene has no light, so no technique takes parameters";
+        if (lights.empty()) message = "--set " + key + ": the scene has no light, so no technique takes parameters";
         throw InputError(message);
+    }
+
+    return lights;
+}
+
+Renderer::Renderer(const Scene& scene, const RenderOptions& options)
+    : scene_(scene), options_(options) {
+    pool_.setSpareBytes(options.spareBytes);
+    if (options.width < 1 || options.height < 1 || options.width > 8192 || options.height > 8192)
+        throw InputError("--size: expected WxH with each side in 1..8192, got " + std::to_string(options.width) + "x" +
+                         std::to_string(options.height));
+    if (scene.lights.size() > size_t(kMaxLights))
+        throw InputError(scene.path + ": lights: at most " + std::to_string(kMaxLights) + " lights are supported, got " +
+                         std::to_string(scene.lights.size()));
+
+    // Resolve each light's technique and parameters before any GL work, so bad input writes nothing.
+    for (LightState& state : resolveLights(scene, options)) {
+        auto slot = std::make_unique<LightSlot>();
+        slot->state = std::move(state);
+        lights_.push_back(std::move(slot));
     }
 
     // GL resources.

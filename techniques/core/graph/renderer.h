@@ -129,6 +129,10 @@ public:
     const ResourcePool& pool() const { return pool_; }
     ResourcePool& pool() { return pool_; }
     std::vector<const LightState*> lights() const;
+    // Each light's technique and parameters (`hard` for a point light) as the constructor resolves
+    // them, with no GL work: for checks made before there is a context (lesson --check's views).
+    // Bad input is an InputError, as from the constructor.
+    static std::vector<LightState> resolveLights(const Scene& scene, const RenderOptions& options);
     const Light& lightAt(size_t index) const { return lights_.at(index)->state.light; }
     const Camera& camera() const { return frame_.camera; }
     float ambient() const { return frame_.ambient; }
