@@ -331,12 +331,11 @@ void build(ViewContext& ctx, ViewResult& result) {
     // pvm: inside a volume one cell, the disk beyond the cutting line (area pi - 2a / r^2, eq. 4.1 at
     // -s gives a, the visible part being 2a); outside every volume the shadow-map test: the whole
     // disk (umbra) or nothing (lit).
-    double pvmK = NAN, pvmChord = NAN;
+    double pvmChord = NAN;
     const bool inVolume = pvmDisk && rec.value("in_volume", false);
     if (inVolume) {
         const nlohmann::json& d = rec.at("disk");
         const double r = d.at("radius").get<double>(), s = rec.at("light_distance").get<double>();
-        pvmK = d.at("k").get<double>();
         pvmChord = r > 0.0 ? std::clamp(-s / r, -1.0, 1.0) : 0.0;
         const double hidden = M_PI - 2.0 * d.at("segment_area").get<double>() / (r * r);
         sum = added = hidden;

@@ -129,6 +129,8 @@ WindowLayout computeWindowLayout(const LayoutInput& in) {
     if (!in.cellAspects.empty()) {
         const float width = right - rowLeft;
         const float maxHeight = std::min(0.36f * H, std::max(0.0f, techniqueBottom - techniqueTop - 0.3f * H));
+        // Under each image only its title line (the view draws its caption inside the picture) and
+        // the first view's pick hint.
         Strip strip = layoutStrip(in.cellAspects, width, maxHeight, gap, std::round(2.0f * line + 6.0f * s));
         if (!strip.cells.empty()) {
             out.strip = {rowLeft, techniqueBottom - strip.height, width, strip.height};

@@ -63,7 +63,9 @@ void Window::updateViews() {
         // so a view is as legible as its cell allows (300 x 225 x scale when it has no cell).
         int w = int(300 * s), h = int(225 * s);
         if (index < layout_.cells.size() && !layout_.cells[index].empty()) {
-            const float band = (17.0f * 3.0f + 10.0f) * s;
+            // The title line, and the pick hint under the first view while no pixel is picked; the
+            // caption is drawn inside the picture (and shown again as its tooltip), not under it.
+            const float band = (17.0f * (!state_.pickedPixel && index == 0 ? 2.0f : 1.0f) + 10.0f) * s;
             w = std::max(64, int(layout_.cells[index].w - 4.0f * s));
             h = std::max(48, int(layout_.cells[index].h - band));
         }
@@ -138,7 +140,11 @@ void Window::drawViewsPanel() {
         ImGui::PushID(v->name.c_str());
         if (ImGui::SmallButton("close")) toClose = v->name;
         ImGui::PopID();
-        const float captionBand = ImGui::GetTextLineHeightWithSpacing() * 2.0f;
+        // Under the picture only the pick hint (first view, no pixel picked): the view draws its
+        // caption itself, so a second copy here only took the picture's room (at 1024x768 with two
+        // views the two copies filled the cells).
+        const bool hint = !state_.pickedPixel && i == 0;
+        const float captionBand = hint ? ImGui::GetTextLineHeightWithSpacing() : 0.0f;
         const ImVec2 avail = ImGui::GetContentRegionAvail();
         if (v->valid && v->frame) {
             const float aspect = float(v->frame->width()) / float(std::max(1, v->frame->height()));
@@ -156,9 +162,13 @@ void Window::drawViewsPanel() {
                 }
                 if (io.MouseWheel != 0.0f) v->zoom = std::clamp(v->zoom * (io.MouseWheel > 0 ? 1.1f : 1.0f / 1.1f), 0.1f, 20.0f);
             }
-            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + avail.x);
-            ImGui::TextUnformatted(v->caption.c_str());
-            ImGui::PopTextWrapPos();
+            if (ImGui::IsItemHovered() && !v->caption.empty() && !ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+                ImGui::BeginTooltip();
+                ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30.0f);
+                ImGui::TextUnformatted(v->caption.c_str());
+                ImGui::PopTextWrapPos();
+                ImGui::EndTooltip();
+            }
         } else if (!v->refusal.empty()) {
             ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + avail.x);
             ImGui::TextDisabled("%s", v->refusal.c_str());
@@ -166,7 +176,7 @@ void Window::drawViewsPanel() {
         } else {
             ImGui::TextDisabled("rendering ...");
         }
-        if (!state_.pickedPixel && i == 0) {
+        if (hint) {
             ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + avail.x);
             ImGui::TextDisabled("Ctrl+click in the image picks the pixel the views show");
             ImGui::PopTextWrapPos();
