@@ -11,6 +11,7 @@
 #include <sstream>
 #include <thread>
 
+#include "scene/input_file.h"
 #include "bench/bench.h"
 #include "bench/chart.h"
 #include "cli/cli.h"
@@ -36,8 +37,10 @@ std::vector<std::string> splitList(const std::string& text, char sep = ',') {
 
 void checkOutput(const std::string& flag, const std::string& path, const std::vector<std::string>& extensions) {
     if (path.empty()) throw InputError("bench: " + flag + ": expected a file path");
+    checkPathName("bench: " + flag, path);
     fs::path parent = fs::path(path).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent))
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec))
         throw InputError("bench: " + flag + ": folder '" + parent.string() + "' does not exist");
     std::string ext = fs::path(path).extension().string();
     std::string list;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <thread>
 
+#include "scene/input_file.h"
 #include "bench/bench.h"
 #include "bench/figure_draw.h"
 #include "bench/figure_spec.h"
@@ -375,8 +376,10 @@ void checkFigureMemory(const FigureSpec& spec, const Options& opts) {
 }
 
 void checkFigureOut(const std::string& out) {
+    checkPathName("figure: --out", out);
     fs::path parent = fs::path(out).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent))
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec))
         throw InputError("figure: --out: folder '" + parent.string() + "' does not exist");
     std::string ext = fs::path(out).extension().string();
     if (ext != ".png" && ext != ".pdf") throw InputError("figure: --out: expected a .png or .pdf file, got '" + out + "'");

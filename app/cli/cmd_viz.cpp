@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "scene/input_file.h"
 #include "cli/cli.h"
 #include "cli/resource_limits.h"
 #include "error.h"
@@ -33,10 +34,12 @@ std::optional<glm::ivec2> parseVizPixel(const std::string& text) {
 
 void checkOutput(const std::string& flag, const std::string& path, const std::string& ext) {
     if (path.empty()) throw InputError(flag + ": expected a file path");
+    checkPathName(flag, path);
     fs::path parent = fs::path(path).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent))
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec))
         throw InputError(flag + ": folder '" + parent.string() + "' does not exist");
-    if (fs::is_directory(path)) throw InputError(flag + ": '" + path + "' is a folder, expected a file path");
+    if (fs::is_directory(path, ec)) throw InputError(flag + ": '" + path + "' is a folder, expected a file path");
     if (!ext.empty() && fs::path(path).extension() != ext)
         throw InputError(flag + ": expected a " + ext + " file, got '" + path + "'");
 }

@@ -1,3 +1,4 @@
+#include "scene/input_file.h"
 #include "cli/resource_limits.h"
 #include "image/image.h"
 
@@ -116,6 +117,7 @@ void OutputPlan::folder(const std::string& what, const std::string& path) {
 }
 
 void OutputPlan::check() const {
+    for (const Entry& e : entries_) checkPathName(e.what, e.path);  // before any file system call
     std::vector<fs::path> paths;
     for (const Entry& e : entries_) paths.push_back(normalised(e.path));
     for (size_t i = 0; i < entries_.size(); ++i) {

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <map>
 
+#include "scene/input_file.h"
 #include "cli/cli.h"
 #include "cli/resource_limits.h"
 #include "error.h"
@@ -57,12 +58,14 @@ int commandLesson(const std::vector<std::string>& args) {
     std::string out = opts.get("--out");
     if (headless) {
         if (out.empty()) throw InputError("lesson: --headless needs --out DIR (the folder of the handout)");
-        if (fs::exists(out) && !fs::is_directory(out)) throw InputError("lesson: --out: '" + out + "' is not a folder");
+        checkPathName("lesson: --out", out);
+        std::error_code ec;
+        if (fs::exists(out, ec) && !fs::is_directory(out, ec)) throw InputError("lesson: --out: '" + out + "' is not a folder");
         // "handout/" names the folder handout: its parent is the one that must exist.
         fs::path path = fs::path(out);
         while (path.has_filename() == false && path.has_parent_path() && path != path.root_path()) path = path.parent_path();
         fs::path parent = path.parent_path();
-        if (!parent.empty() && !fs::is_directory(parent))
+        if (!parent.empty() && !fs::is_directory(parent, ec))
             throw InputError("lesson: --out: folder '" + parent.string() + "' does not exist");
     }
     Lesson lesson = loadLesson(opts.positional()[0]);

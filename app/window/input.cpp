@@ -412,8 +412,10 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
             onOff(c.args[0]);
         } else if (c.verb == "screenshot" || c.verb == "save-reference" || c.verb == "save-visibility" ||
                    c.verb == "save-accuracy") {
+            checkPathName(where + c.verb, c.args[0]);
             std::filesystem::path parent = std::filesystem::path(c.args[0]).parent_path();
-            if (!parent.empty() && !std::filesystem::is_directory(parent))
+            std::error_code ec;
+            if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
                 throw InputError(where + "screenshot: folder '" + parent.string() + "' does not exist");
         }
         script.push_back(c);

@@ -1,6 +1,7 @@
 // The window: the loop, the renderers, the technique view (present), the overlay of the light and
 // the split, screenshots; runWindow (`shadowlab window`) and runDefault (`shadowlab` with no
 // arguments, with a headless fallback when no display is there). See window.h for the structure.
+#include "scene/input_file.h"
 #include "gl/loader.h"  // before GLFW, which must not include GL/gl.h
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -48,10 +49,12 @@ ImU32 rgba(int r, int g, int b, int a = 255) { return IM_COL32(r, g, b, a); }
 // An output's folder must exist (nothing is created half-way); checked before the window opens.
 void checkOutputPath(const std::string& flag, const std::string& path) {
     if (path.empty()) throw InputError("window: " + flag + ": expected a file path");
+    checkPathName("window: " + flag, path);
     fs::path parent = fs::path(path).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent))
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec))
         throw InputError("window: " + flag + ": folder '" + parent.string() + "' does not exist");
-    if (fs::is_directory(path)) throw InputError("window: " + flag + ": '" + path + "' is a folder, expected a file path");
+    if (fs::is_directory(path, ec)) throw InputError("window: " + flag + ": '" + path + "' is a folder, expected a file path");
 }
 
 }  // namespace

@@ -538,3 +538,40 @@ TEST(BadInputLimits, TheMemoryEstimateCountsEveryResourceTheTechniqueAllocates) 
 }
 
 }  // namespace
+
+namespace {
+
+// A name over the file system's 255 bytes in an output (or input) path is bad input, exit 2 naming
+// the flag and the limit, from every command: std::filesystem's throwing calls made it "internal
+// error: filesystem error: status: File name too long" (exit 1). Found by fuzz_cli in its first
+// 10-minute run (`viz --view hsm --scene n,5 --out /dev/111...1nu...`).
+TEST(BadInputOutputs, ANameOverTheFileSystemLimitIsExit2FromEveryCommand) {
+    const std::string longName(300, 'n');
+    const std::string out = tmp(longName + ".png");
+    const std::string script = writeFile("long-name.txt", "screenshot " + tmp(longName + ".png") + "\n");
+    const std::string spec = writeFile("long-name.json", R"({"title": "t", "size": [16, 16], "reference": "reference:4",
+        "columns": [{"technique": "hard"}], "rows": [{"scene": "square-occluder", "label": "ok"}]})");
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"render --scene square-occluder --size 16x16 --out " + out, "--out"},
+        {"render --scene square-occluder --size 16x16 --stats " + tmp(longName + ".json"), "--stats"},
+        {"render --scene " + tmp(longName + ".gltf") + " --size 16x16 --out " + tmp("o.png"), longName.substr(0, 40)},
+        {"viz --view scene3d --scene square-occluder --out " + out, "--out"},
+        {"bench --scenes square-occluder --techniques hard --size 16x16 --csv " + tmp(longName + ".csv"), "--csv"},
+        {"figure --spec " + spec + " --out " + out, "--out"},
+        {"lesson intro --headless --out " + tmp(longName), "--out"},
+        {"scene --scene square-occluder --dump-triangles " + tmp(longName + ".obj"), "--dump-triangles"},
+        {"window --screenshot " + out, "--screenshot"},
+        {"window --script " + script, "long-name.txt:1: screenshot"},
+    };
+    for (const auto& [arguments, flag] : cases) {
+        SCOPED_TRACE(arguments.substr(0, 120));
+        const Result r = run(arguments);
+        EXPECT_EQ(r.code, 2) << r.output;
+        EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(flag), std::string::npos) << r.output;
+        if (arguments.find("gltf") == std::string::npos)
+            EXPECT_NE(r.output.find("bytes long, over the file system's limit of 255"), std::string::npos) << r.output;
+    }
+}
+
+}  // namespace

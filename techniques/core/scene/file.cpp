@@ -438,7 +438,8 @@ Scene readScene(const JsonReader& r, const json& root, const std::string& path, 
 }  // namespace
 
 Scene sceneAroundGltf(const std::string& path, const SceneLimits& limits) {
-    if (!fs::exists(path)) throw InputError(path + ": no such file");
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw InputError(path + ": no such file");
     Scene scene;
     scene.name = fs::path(path).stem().string();
     scene.path = path;

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <climits>
 #include <cerrno>
 #include <algorithm>
 #include <cstring>
@@ -93,6 +94,22 @@ std::vector<unsigned char> readInputBytes(const std::string& path, const std::st
 std::string readInputFile(const std::string& path, const std::string& what, uintmax_t maxBytes,
                           const std::function<void(const std::string&, uintmax_t)>& checkStart) {
     return readWhole<std::string>(path, what, maxBytes, checkStart);
+}
+
+void checkPathName(const std::string& what, const std::string& path) {
+    auto shown = [&] { return path.size() > 80 ? path.substr(0, 60) + "... (" + std::to_string(path.size()) + " bytes)" : path; };
+    if (path.size() >= size_t(PATH_MAX))
+        throw InputError(what + ": '" + shown() + "': the path is " + std::to_string(path.size()) +
+                         " bytes long, over the system's limit of " + std::to_string(PATH_MAX - 1));
+    size_t start = 0;
+    while (start <= path.size()) {
+        size_t slash = path.find('/', start);
+        if (slash == std::string::npos) slash = path.size();
+        if (slash - start > size_t(NAME_MAX))
+            throw InputError(what + ": '" + shown() + "': a name in the path is " + std::to_string(slash - start) +
+                             " bytes long, over the file system's limit of " + std::to_string(NAME_MAX));
+        start = slash + 1;
+    }
 }
 
 }  // namespace shadowlab

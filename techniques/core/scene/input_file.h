@@ -29,4 +29,11 @@ std::vector<unsigned char> readInputBytes(const std::string& path, const std::st
 std::string readInputFile(const std::string& path, const std::string& what, uintmax_t maxBytes,
                           const std::function<void(const std::string& start, uintmax_t fileBytes)>& checkStart);
 
+// InputError "<what>: ... is N bytes long ..." when `path` cannot name a file on this system: a name
+// in it over NAME_MAX (255) bytes or the whole over PATH_MAX - 1 bytes. Every output check calls it
+// first: the file system refuses such a path with ENAMETOOLONG, which std::filesystem's throwing
+// calls turned into "internal error: filesystem error: status: File name too long" (exit 1; found by
+// fuzz_cli with `viz --out /dev/111...1nu...`).
+void checkPathName(const std::string& what, const std::string& path);
+
 }  // namespace shadowlab
