@@ -142,7 +142,14 @@ void checkBackprojectionStep3(bool waitFirst) {
         }
         EXPECT_GT(accumulating, 8);
         EXPECT_LE(jump, 32);
-        EXPECT_LT(worst, 2500.0);
+        // A frozen window is seconds per frame; under AddressSanitizer (scripts/sanitize.sh, -O1 with
+        // every access checked) the same frames run about 2-3 times slower (2.9 s measured there).
+#if defined(__SANITIZE_ADDRESS__)
+        constexpr double kLongestFrameMs = 2500.0 * 3.0;
+#else
+        constexpr double kLongestFrameMs = 2500.0;
+#endif
+        EXPECT_LT(worst, kLongestFrameMs);
         std::printf("the check waited over %d frames of samples (at most %d a frame, the longest frame %.0f ms)\n",
                     accumulating, jump, worst);
     }
