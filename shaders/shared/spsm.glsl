@@ -74,14 +74,18 @@ SHARED_FN float spsmDequantizeCoord(uint q, float smSize) {
 }
 
 // The scale exponent e (0..31) for depth differences up to m at w0: the smallest S = w0 2^-(e-8)
-// with m <= S, so the 9-bit differences use their range.
+// with m <= S, so the 9-bit differences use their range. floor(log2(w0 / m)) is read from the
+// float's exponent bits (exact, and a few integer operations where log2 is a polynomial on a SIMD
+// CPU); a ratio under the smallest normal float gives 0 after the clamp, as log2 would.
 SHARED_FN uint spsmDepthScaleExponent(float w0, float m) {
-    float e = floor(log2(w0 / max(m, 1e-30f))) + 8.0f;
+    float ratio = w0 / max(m, 1e-30f);
+    float e = float(int((floatBitsToUint(ratio) >> 23u) & 255u) - 127) + 8.0f;
     return uint(clamp(e, 0.0f, 31.0f));
 }
 
+// w0 2^(8 - e), exactly (ldexp scales the exponent).
 SHARED_FN float spsmDepthScale(float w0, uint e) {
-    return w0 * exp2(8.0f - float(e));
+    return ldexp(w0, 8 - int(e));
 }
 
 SHARED_FN uvec4 spsmPack(SpsmTriangle t, float smSize) {
@@ -174,15 +178,28 @@ SHARED_FN float spsmPackingDepthError(SpsmTriangle t, vec2 x) {
 // ---- 2D tests
 
 // Whether x lies in the stored triangle (edges included, within 1e-4 texels so that the shared
-// edge of two triangles leaves no crack). Degenerate triangles contain nothing.
-SHARED_FN bool spsmInside(SpsmTriangle t, vec2 x) {
-    float area = spsmEdgeFunction(t.a, t.b, t.c);
+// edge of two triangles leaves no crack), from the three edge functions of x (spsmEdgeFunction of
+// the edges a->b, b->c, c->a) and twice the signed area: s E >= -1e-4 |edge| for each edge, written
+// without the square roots (E s >= 0, or E^2 <= 1e-8 |edge|^2). Degenerate triangles contain nothing.
+SHARED_FN bool spsmInsideEdges(SpsmTriangle t, float area, vec3 e) {
     if (abs(area) < 1e-12f) return false;
-    float s = area > 0.0f ? 1.0f : -1.0f;
-    float tol = 1e-4f;
-    return s * spsmEdgeFunction(t.a, t.b, x) >= -tol * length(t.b - t.a) &&
-           s * spsmEdgeFunction(t.b, t.c, x) >= -tol * length(t.c - t.b) &&
-           s * spsmEdgeFunction(t.c, t.a, x) >= -tol * length(t.a - t.c);
+    vec3 se = area > 0.0f ? e : -e;
+    vec2 ab = t.b - t.a;
+    vec2 bc = t.c - t.b;
+    vec2 ca = t.a - t.c;
+    vec3 len2 = vec3(dot(ab, ab), dot(bc, bc), dot(ca, ca));
+    vec3 tol2 = 1e-8f * len2;
+    return (se.x >= 0.0f || se.x * se.x <= tol2.x) && (se.y >= 0.0f || se.y * se.y <= tol2.y) &&
+           (se.z >= 0.0f || se.z * se.z <= tol2.z);
+}
+
+// The three edge functions of x: a->b, b->c, c->a.
+SHARED_FN vec3 spsmEdges(SpsmTriangle t, vec2 x) {
+    return vec3(spsmEdgeFunction(t.a, t.b, x), spsmEdgeFunction(t.b, t.c, x), spsmEdgeFunction(t.c, t.a, x));
+}
+
+SHARED_FN bool spsmInside(SpsmTriangle t, vec2 x) {
+    return spsmInsideEdges(t, spsmEdgeFunction(t.a, t.b, t.c), spsmEdges(t, x));
 }
 
 // How the build ranks the triangles touching a texel (its depth test): 1/z of the triangle's
@@ -232,9 +249,19 @@ SHARED_FN bool spsmTouchesTexel(SpsmTriangle t, vec2 lo) {
 // 0 it does not cover x; 1 it covers x at or behind the receiver (within the bias: the receiver
 // lies on it, or in front of it); 2 it covers x in front of the receiver (the ray to the light
 // meets it: shadowed). The bias is the shadow map's plus the triangle's own packing error there.
+// The edge functions, the barycentric 1/z and its error are computed once (spsmInside,
+// spsmDepthAt and spsmPackingDepthError in one): the first draw runs this for every pixel.
 SHARED_FN int spsmTriangleTest(SpsmTriangle t, vec2 x, float zReceiver, float bias) {
-    if (!spsmInside(t, x)) return 0;
-    return spsmDepthAt(t, x) < zReceiver - bias - spsmPackingDepthError(t, x) ? 2 : 1;
+    float area = spsmEdgeFunction(t.a, t.b, t.c);
+    vec3 e = spsmEdges(t, x);
+    if (!spsmInsideEdges(t, area, e)) return 0;
+    // 1/z at x: la = E(b, c, x) / area at a, lb = E(c, a, x) / area at b (spsmInverseDepthAt).
+    float la = e.y / area;
+    float lb = e.z / area;
+    float w = t.w.x + lb * (t.w.y - t.w.x) + (1.0f - la - lb) * (t.w.z - t.w.x);
+    float z = w > 0.0f ? 1.0f / w : SPSM_FAR;
+    float error = w > 1e-15f ? spsmInverseDepthError(t) / (w * w) : SPSM_FAR;
+    return z < zReceiver - bias - error ? 2 : 1;
 }
 
 // The depth comparison of the reconstruction step for one neighbour: the neighbour triangle's
@@ -280,52 +307,78 @@ struct SpsmEdge {
     int kept;         // vertices kept after the bisector and occlusion tests
 };
 
+// The distinct triangles among the occluding neighbours (bit k of `occluding` set), in the order of
+// k. Neighbouring texels often store the same triangle (a large caster spans many texels), and the
+// reconstruction's work grows with the square of the triangles it links (every kept vertex is
+// tested against every occluding edge): on a GPU or a SIMD CPU the loops below run as many times
+// as the lane with the most distinct triangles needs, a few instead of nine. A duplicate adds
+// nothing: the same vertices and the same edges.
+struct SpsmOccluders {
+    SpsmTriangle t[9];
+    int count;
+};
+
+SHARED_FN bool spsmSameTriangle(SpsmTriangle p, SpsmTriangle q) {
+    return p.a == q.a && p.b == q.b && p.c == q.c && p.w == q.w;
+}
+
+SHARED_FN SpsmOccluders spsmDistinctOccluders(SpsmTriangle tris[9], uint occluding) {
+    SpsmOccluders o;
+    o.count = 0;
+    for (int k = 0; k < 9; ++k) {
+        o.t[k] = tris[k];
+        bool fresh = ((occluding >> uint(k)) & 1u) != 0u;
+        for (int j = 0; j < o.count; ++j) fresh = fresh && !spsmSameTriangle(o.t[j], tris[k]);
+        if (fresh) {
+            o.t[o.count] = tris[k];
+            o.count += 1;
+        }
+    }
+    return o;
+}
+
 // Whether a vertex v of an occluding triangle, at tangent coordinate sv and normal distance dv,
 // is hidden behind an edge of an occluding triangle: an edge spanning sv (strictly) lies nearer the
 // lit side (smaller d) there. Such a vertex is inside the occluders' projection, not on the edge.
-SHARED_FN bool spsmVertexHidden(SpsmTriangle tris[9], uint occluding, vec2 v, vec2 centre, vec2 n, vec2 tangent) {
+SHARED_FN bool spsmVertexHidden(SpsmOccluders o, vec2 v, vec2 centre, vec2 n, vec2 tangent) {
     float sv = dot(v - centre, tangent);
     float dv = dot(v - centre, n);
-    for (int k = 0; k < 9; ++k) {
-        if (((occluding >> uint(k)) & 1u) != 0u) {
-            for (int e = 0; e < 3; ++e) {
-                vec2 p = spsmVertex(tris[k], e);
-                vec2 q = spsmVertex(tris[k], (e + 1) % 3);
-                float sp = dot(p - centre, tangent);
-                float sq = dot(q - centre, tangent);
-                float lo = min(sp, sq);
-                float hi = max(sp, sq);
-                if (sv > lo + 1e-4f && sv < hi - 1e-4f) {
-                    float dp = dot(p - centre, n);
-                    float dq = dot(q - centre, n);
-                    float d = dp + (dq - dp) * (sv - sp) / (sq - sp);
-                    if (d < dv - 1e-3f) return true;
-                }
+    bool hidden = false;
+    for (int k = 0; k < o.count; ++k) {
+        for (int e = 0; e < 3; ++e) {
+            vec2 p = spsmVertex(o.t[k], e);
+            vec2 q = spsmVertex(o.t[k], (e + 1) % 3);
+            float sp = dot(p - centre, tangent);
+            float sq = dot(q - centre, tangent);
+            float lo = min(sp, sq);
+            float hi = max(sp, sq);
+            if (sv > lo + 1e-4f && sv < hi - 1e-4f) {
+                float dp = dot(p - centre, n);
+                float dq = dot(q - centre, n);
+                float d = dp + (dq - dp) * (sv - sp) / (sq - sp);
+                hidden = hidden || d < dv - 1e-3f;
             }
         }
     }
-    return false;
+    return hidden;
 }
 
 // The edge's distance along n at tangent coordinate sx when only one linked vertex v was found:
 // the occluding edges from v that head towards sx, extended (the lowest, as the envelope of the
 // occluders towards the lit side). None heads there: v is a corner beyond which no stored occluder
 // extends along the tangent, and x is on the lit side (SPSM_FAR).
-SHARED_FN float spsmExtendFromVertex(SpsmTriangle tris[9], uint occluding, vec2 v, float sx, vec2 centre, vec2 n,
-                                     vec2 tangent) {
+SHARED_FN float spsmExtendFromVertex(SpsmOccluders o, vec2 v, float sx, vec2 centre, vec2 n, vec2 tangent) {
     float sv = dot(v - centre, tangent);
     float dv = dot(v - centre, n);
     float best = SPSM_FAR;
-    for (int k = 0; k < 9; ++k) {
-        if (((occluding >> uint(k)) & 1u) != 0u) {
-            for (int i = 0; i < 3; ++i) {
-                if (length(spsmVertex(tris[k], i) - v) < 1e-5f) {
-                    for (int j = 1; j < 3; ++j) {
-                        vec2 w = spsmVertex(tris[k], (i + j) % 3);
-                        float sw = dot(w - centre, tangent);
-                        float dw = dot(w - centre, n);
-                        if ((sw - sv) * (sx - sv) > 1e-8f) best = min(best, dv + (dw - dv) * (sx - sv) / (sw - sv));
-                    }
+    for (int k = 0; k < o.count; ++k) {
+        for (int i = 0; i < 3; ++i) {
+            if (length(spsmVertex(o.t[k], i) - v) < 1e-5f) {
+                for (int j = 1; j < 3; ++j) {
+                    vec2 w = spsmVertex(o.t[k], (i + j) % 3);
+                    float sw = dot(w - centre, tangent);
+                    float dw = dot(w - centre, n);
+                    if ((sw - sv) * (sx - sv) > 1e-8f) best = min(best, dv + (dw - dv) * (sx - sv) / (sw - sv));
                 }
             }
         }
@@ -361,21 +414,20 @@ SHARED_FN SpsmEdge spsmReconstructEdge(SpsmTriangle tris[9], uint occluding, vec
     r.normal = n;
     float sx = dot(x - centre, tangent);
     r.dPoint = dot(x - centre, n);
-    // The kept vertices (at most 27: three per neighbour).
+    // The kept vertices (at most 27: three per distinct occluding triangle).
+    SpsmOccluders o = spsmDistinctOccluders(tris, occluding);
     vec2 kept[27];
     int count = 0;
-    for (int k = 0; k < 9; ++k) {
-        if (((occluding >> uint(k)) & 1u) != 0u) {
-            for (int i = 0; i < 3; ++i) {
-                vec2 v = spsmVertex(tris[k], i);
-                vec2 p = spsmVertex(tris[k], (i + 1) % 3);
-                vec2 q = spsmVertex(tris[k], (i + 2) % 3);
-                vec2 bisector = normalize(p - v) + normalize(q - v);
-                float facing = dot(bisector, n) / max(length(bisector), 1e-20f);
-                if (facing > -0.5f && !spsmVertexHidden(tris, occluding, v, centre, n, tangent) && count < 27) {
-                    kept[count] = v;
-                    count += 1;
-                }
+    for (int k = 0; k < o.count; ++k) {
+        for (int i = 0; i < 3; ++i) {
+            vec2 v = spsmVertex(o.t[k], i);
+            vec2 p = spsmVertex(o.t[k], (i + 1) % 3);
+            vec2 q = spsmVertex(o.t[k], (i + 2) % 3);
+            vec2 bisector = normalize(p - v) + normalize(q - v);
+            float facing = dot(bisector, n) / max(length(bisector), 1e-20f);
+            if (facing > -0.5f && !spsmVertexHidden(o, v, centre, n, tangent)) {
+                kept[count] = v;
+                count += 1;
             }
         }
     }
@@ -386,17 +438,15 @@ SHARED_FN SpsmEdge spsmReconstructEdge(SpsmTriangle tris[9], uint occluding, vec
     vec2 right = centre;
     float bestLeft = -SPSM_FAR;
     float bestRight = SPSM_FAR;
-    for (int i = 0; i < 27; ++i) {
-        if (i < count) {
-            float si = dot(kept[i] - centre, tangent);
-            if (si <= sx && si > bestLeft) {
-                bestLeft = si;
-                left = kept[i];
-            }
-            if (si >= sx && si < bestRight) {
-                bestRight = si;
-                right = kept[i];
-            }
+    for (int i = 0; i < count; ++i) {
+        float si = dot(kept[i] - centre, tangent);
+        if (si <= sx && si > bestLeft) {
+            bestLeft = si;
+            left = kept[i];
+        }
+        if (si >= sx && si < bestRight) {
+            bestRight = si;
+            right = kept[i];
         }
     }
     bool found = bestLeft > -SPSM_FAR && bestRight < SPSM_FAR;
@@ -411,18 +461,16 @@ SHARED_FN SpsmEdge spsmReconstructEdge(SpsmTriangle tris[9], uint occluding, vec
         if (count == 0) return r;
         int nearest = 0;
         float best = SPSM_FAR;
-        for (int i = 0; i < 27; ++i) {
-            if (i < count) {
-                float d = abs(dot(kept[i] - centre, tangent) - sx);
-                if (d < best) {
-                    best = d;
-                    nearest = i;
-                }
+        for (int i = 0; i < count; ++i) {
+            float d = abs(dot(kept[i] - centre, tangent) - sx);
+            if (d < best) {
+                best = d;
+                nearest = i;
             }
         }
         left = kept[nearest];
         right = kept[nearest];
-        dEdge = spsmExtendFromVertex(tris, occluding, left, sx, centre, n, tangent);
+        dEdge = spsmExtendFromVertex(o, left, sx, centre, n, tangent);
     }
     r.decided = 1;
     r.left = left;

@@ -217,8 +217,8 @@ TEST(SpsmMath, VerticesHiddenBehindAnEdgeAreDiscarded) {
     for (int k = 0; k < 9; ++k) n.tris[k] = k == 7 ? small : big;
     n.occluding = maskOf({6, 7, 8});
     vec2 normal(0.0f, 1.0f), tangent(-1.0f, 0.0f);
-    EXPECT_TRUE(spsmVertexHidden(n.tris, n.occluding, small.a, vec2(8.5f), normal, tangent));
-    EXPECT_FALSE(spsmVertexHidden(n.tris, n.occluding, big.a, vec2(8.5f), normal, tangent));
+    EXPECT_TRUE(spsmVertexHidden(spsmDistinctOccluders(n.tris, n.occluding), small.a, vec2(8.5f), normal, tangent));
+    EXPECT_FALSE(spsmVertexHidden(spsmDistinctOccluders(n.tris, n.occluding), big.a, vec2(8.5f), normal, tangent));
     // The edge is the big triangle's: a point between y = 8 and the small vertex is shadowed...
     SpsmEdge e = spsmReconstructEdge(n.tris, n.occluding, vec2(8.5f, 8.6f), vec2(8.5f, 8.5f));
     ASSERT_EQ(e.decided, 1);
@@ -226,6 +226,27 @@ TEST(SpsmMath, VerticesHiddenBehindAnEdgeAreDiscarded) {
     EXPECT_NEAR(e.dEdge, -0.5f, 1e-5f);
     // ... and one below it lit.
     EXPECT_EQ(spsmReconstructEdge(n.tris, n.occluding, vec2(8.5f, 7.9f), vec2(8.5f, 8.5f)).shadowed, 0.0f);
+}
+
+// The reconstruction links the distinct occluding triangles only: neighbouring texels storing the
+// same triangle add no vertex and no edge, and its loops run over a few triangles instead of nine.
+TEST(SpsmMath, DistinctOccludersKeepEachOccludingTriangleOnce) {
+    Neighbourhood n = straightEdge(8.2f, 0.3f);  // one triangle per column, repeated in its rows
+    SpsmOccluders o = spsmDistinctOccluders(n.tris, n.occluding);
+    int expected = 0;
+    for (int k = 0; k < 9; ++k) {
+        bool first = ((n.occluding >> unsigned(k)) & 1u) != 0u;
+        for (int j = 0; j < k; ++j) first = first && !(((n.occluding >> unsigned(j)) & 1u) && spsmSameTriangle(n.tris[j], n.tris[k]));
+        expected += first;
+    }
+    EXPECT_EQ(o.count, expected);
+    EXPECT_LE(o.count, 3) << "three columns";
+    for (int i = 0; i < o.count; ++i)
+        for (int j = 0; j < i; ++j) EXPECT_FALSE(spsmSameTriangle(o.t[i], o.t[j]));
+    Neighbourhood one;
+    for (int k = 0; k < 9; ++k) one.tris[k] = flat(vec2(4.0f, 8.0f), vec2(13.0f, 8.0f), vec2(8.5f, 16.0f), 2.0f);
+    EXPECT_EQ(spsmDistinctOccluders(one.tris, maskOf({5, 6, 7, 8})).count, 1);
+    EXPECT_EQ(spsmDistinctOccluders(one.tris, 0u).count, 0);
 }
 
 // The build's rank: a triangle covering the texel centre keeps its depth there; one that does not
@@ -280,7 +301,7 @@ TEST_F(SpsmGpu, SharedMathMatchesCpuOnAGrid) {
     program.set("variant", 1);
     drawFullscreenTriangle();
     std::vector<std::vector<float>> second;
-    for (int i = 0; i < 3; ++i) second.push_back(read(*outs[size_t(i)]));
+    for (int i = 0; i < 4; ++i) second.push_back(read(*outs[size_t(i)]));
     // Same operations; the GPU may fuse multiply-adds and round divisions its own way. 1e-4
     // relative catches any change of formula; the packed words and decisions must agree exactly
     // except where a value sits within rounding of a threshold (allowed in 1% of the cells).
@@ -295,8 +316,8 @@ TEST_F(SpsmGpu, SharedMathMatchesCpuOnAGrid) {
             for (int c = 0; c < 4; ++c) differ = differ || words[i * 4 + size_t(c)] != o.code[c];
             packedDiffer += differ;
             bool bad = false;
-            vec4 cpu[10] = {o.a, o.b, o.c, o.d, o.e, o.f, o.g, o.h, o.i, o.j};
-            for (int k = 0; k < 10; ++k)
+            vec4 cpu[11] = {o.a, o.b, o.c, o.d, o.e, o.f, o.g, o.h, o.i, o.j, o.k};
+            for (int k = 0; k < 11; ++k)
                 for (int c = 0; c < 4; ++c) {
                     float gpu = k < 7 ? first[size_t(k)][i * 4 + size_t(c)] : second[size_t(k - 7)][i * 4 + size_t(c)];
                     if (!near(gpu, cpu[k][c])) {

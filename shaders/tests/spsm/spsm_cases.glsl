@@ -17,6 +17,7 @@ struct SpsmCaseOut {
     vec4 h;         // ray direction at p (xyz), coordinate step
     vec4 i;         // coordinate round trip, bit-field round trip, w at b, extension from a vertex
     vec4 j;         // vertex 1 of the centre neighbour (xy), packed texel empty, all-zero texel empty
+    vec4 k;         // the three edge functions at p, inside from them + 2 x (same triangle as its round trip)
 };
 
 // A triangle in SPSM space around texel (8, 8) of a 64-texel map, from the grid cell (x, y).
@@ -69,7 +70,7 @@ SHARED_FN SpsmCaseOut spsmCase(int x, int y) {
     vec2 m = spsmEdgeNormal(occluding);
     SpsmEdge r = spsmReconstructEdge(tris, occluding, p * 0.1f + vec2(7.6f, 7.6f), vec2(8.5f, 8.5f));
     o.e = vec4(m.x, m.y, float(r.decided), r.shadowed);
-    bool hidden = spsmVertexHidden(tris, occluding, spsmVertex(tris[4], 2), vec2(8.5f, 8.5f), n0, tg);
+    bool hidden = spsmVertexHidden(spsmDistinctOccluders(tris, occluding), spsmVertex(tris[4], 2), vec2(8.5f, 8.5f), n0, tg);
     o.f = vec4(r.dEdge, r.dPoint, float(r.kept), hidden ? 1.0f : 0.0f);
     uint e = spsmDepthScaleExponent(u.w.x, 0.003f * float(x + 1));
     o.g = vec4(float(e), spsmDepthScale(u.w.x, e), spsmInverseDepthError(u), spsmPackingDepthError(u, p));
@@ -77,9 +78,12 @@ SHARED_FN SpsmCaseOut spsmCase(int x, int y) {
     o.i = vec4(spsmDequantizeCoord(spsmQuantizeCoord(p.x, smSize), smSize),
                float(spsmGetBits(spsmPutBits(uvec4(0u, 0u, 0u, 0u), 28u + uint(x % 8), 11u, uint(y * 37 + x)),
                                  28u + uint(x % 8), 11u)),
-               u.w.y, spsmExtendFromVertex(tris, occluding, spsmVertex(tris[4], 0), 0.3f, vec2(8.5f, 8.5f), n0, tg));
+               u.w.y, spsmExtendFromVertex(spsmDistinctOccluders(tris, occluding), spsmVertex(tris[4], 0), 0.3f, vec2(8.5f, 8.5f), n0, tg));
     vec2 v1 = spsmVertex(tris[4], 1);
     o.j = vec4(v1.x, v1.y, spsmEmpty(o.code) ? 1.0f : 0.0f, spsmEmpty(uvec4(0u, 0u, 0u, 0u)) ? 1.0f : 0.0f);
+    vec3 edges = spsmEdges(u, p);
+    bool insideEdges = spsmInsideEdges(u, spsmEdgeFunction(u.a, u.b, u.c), edges);
+    o.k = vec4(edges, (insideEdges ? 1.0f : 0.0f) + (spsmSameTriangle(u, spsmUnpack(spsmPack(u, smSize), smSize)) ? 2.0f : 0.0f));
     return o;
 }
 #endif

@@ -10,7 +10,7 @@ layout(location = 5) out vec4 outE;
 layout(location = 6) out vec4 outF;
 layout(location = 7) out vec4 outG;
 
-uniform int variant;  // 0: packed, a..g; 1: h, i, j in outA..outC
+uniform int variant;  // 0: packed, a..g; 1: h, i, j, k in outA..outD
 
 void main() {
     ivec2 c = ivec2(gl_FragCoord.xy);
@@ -19,7 +19,7 @@ void main() {
     outA = variant == 0 ? o.a : o.h;
     outB = variant == 0 ? o.b : o.i;
     outC = variant == 0 ? o.c : o.j;
-    outD = o.d;
+    outD = variant == 0 ? o.d : o.k;
     outE = o.e;
     outF = o.f;
     outG = o.g;
