@@ -15,6 +15,7 @@ const TechniqueDesc& ssvTechnique();
 const TechniqueDesc& spsmTechnique();
 const TechniqueDesc& pvmTechnique();
 const TechniqueDesc& pvmfTechnique();
+const TechniqueDesc& autoTechnique();
 
 const std::vector<const TechniqueDesc*>& allTechniques() {
     static const std::vector<const TechniqueDesc*> all = {
@@ -28,6 +29,7 @@ const std::vector<const TechniqueDesc*>& allTechniques() {
         &pvmTechnique(),
         &pvmfTechnique(),
         &spsmTechnique(),
+        &autoTechnique(),
         &referenceTechnique(),
         &raytracedTechnique(),
     };

@@ -115,6 +115,8 @@ std::string fmt(const char* format, double v) {
 }  // namespace
 
 int commandBench(const std::vector<std::string>& args) {
+    for (const std::string& a : args)
+        if (a == "--calibrate") return commandCalibrate(args);
     Options opts("bench", args, 1,
                  {"--spec", "--scenes", "--techniques", "--sweep", "--light-sizes", "--size", "--frames", "--warmup",
                   "--reference", "--cache", "--csv", "--plot", "--latex", "--report", "--error", "--gl", "--max-settings",

@@ -96,7 +96,8 @@ CachedReference cachedReference(const Scene& scene, int width, int height, std::
     }
     out.fields = {{"format", kReferenceCacheFormat},
                   {"scene", scene.name},
-                  {"scene_file_fnv1a", hex16(fnv1a(readInputFile(scene.path, "scene file", kMaxSceneInputBytes)))},
+                  {"scene_file_fnv1a", hex16(fnv1a(isRandomSceneName(scene.path) ? "generated " + scene.path
+                                                                                   : readInputFile(scene.path, "scene file", kMaxSceneInputBytes)))},
                   {"camera",
                    {{"position", {scene.camera.position.x, scene.camera.position.y, scene.camera.position.z}},
                     {"target", {scene.camera.target.x, scene.camera.target.y, scene.camera.target.z}},

@@ -14,6 +14,8 @@ int runWindow(const std::vector<std::string>& args);
 int runDefault();
 // `bench` (app/bench/cmd_bench.cpp) and `figure` (app/bench/cmd_figure.cpp).
 int commandBench(const std::vector<std::string>& args);
+// `bench --calibrate` (app/bench/calibrate.cpp): the table `auto` predicts from.
+int commandCalibrate(const std::vector<std::string>& args);
 int commandFigure(const std::vector<std::string>& args);
 
 // Option parsing shared by the commands: "--flag value" pairs and bare flags, checked against the

@@ -33,23 +33,9 @@ double estimateRenderBytes(const Scene& scene, const RenderOptions& options) {
     double bytes = perPixel * double(options.width) * double(options.height);
     // Each light's technique: the resources its passes declare at these parameters (shadow maps,
     // pyramids, light-space buffers, per-pixel textures), as the pool will allocate them.
-    for (size_t i = 0; i < lights; ++i) {
-        Light light = scene.lights[i];  // with --light-size applied as the renderer applies it
-        if (options.lightSize) {
-            light.size = *options.lightSize;
-            if (*options.lightSize == 0.0f) light.shape = LightShape::Point;
-        }
-        const std::string id = !options.technique.empty() ? options.technique
-                               : !light.technique.empty() ? light.technique
-                                                          : "hard";
-        const TechniqueDesc* requested = findTechnique(id);
-        if (!requested) continue;  // the renderer names it
-        ParamValues values(*requested);
-        for (const auto& [key, value] : options.sets)
-            if (requested->findParam(key)) values.set(*requested, key, value, "--set " + key + "=" + value);
-        const auto [desc, params] = techniqueForLight(*requested, values, light.isPoint());
-        bytes += techniqueResourceBytes(*desc, params, {options.width, options.height});
-    }
+    // Resolved as the renderer resolves them (--light-size, a point light's `hard`, `auto`'s choice).
+    for (const LightState& l : Renderer::resolveLights(scene, options))
+        if (l.runs()) bytes += techniqueResourceBytes(*l.desc, l.params, {options.width, options.height});
     uint64_t triangles = 0;
     for (const Object& o : scene.objects) triangles += o.mesh.triangleCount();
     bytes += double(triangles) * double(kBytesPerTriangle);

@@ -366,7 +366,7 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
             if (!findTechnique(c.args[0])) throw InputError(where + "unknown technique '" + c.args[0] + "'");
         } else if (c.verb == "scene") {
             std::string s = c.args[0];
-            if (!(s.size() > 5 && (s.ends_with(".gltf") || s.ends_with(".glb")))) {
+            if (!(s.size() > 5 && (s.ends_with(".gltf") || s.ends_with(".glb"))) && !isRandomSceneName(s)) {
                 try {
                     resolveScenePath(s);
                 } catch (const InputError& e) {

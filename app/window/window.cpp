@@ -1147,7 +1147,7 @@ int runWindowImpl(const std::vector<std::string>& args, bool fallback) {
     if (!opts.positional().empty()) throw InputError("window: unexpected argument '" + opts.positional()[0] + "'");
     WindowState state;
     state.scene = opts.get("--scene", "square-occluder");
-    if (!isGltf(state.scene)) resolveScenePath(state.scene);  // InputError naming a missing scene
+    if (!isGltf(state.scene) && !isRandomSceneName(state.scene)) resolveScenePath(state.scene);  // InputError naming a missing scene
     std::vector<std::string> techniques;
     for (const TechniqueDesc* d : allTechniques()) techniques.push_back(d->id);
     state.technique = techniques[indexOf(techniques, opts.get("--technique", "pcf"), "--technique")];

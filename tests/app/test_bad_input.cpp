@@ -504,6 +504,7 @@ TEST(BadInputLimits, AFigureLabelHasAStatedLength) {
 
 }  // namespace
 
+#include "graph/renderer.h"
 #include "graph/technique.h"
 
 namespace {
@@ -528,8 +529,16 @@ TEST(BadInputLimits, TheMemoryEstimateCountsEveryResourceTheTechniqueAllocates) 
             for (const nlohmann::json& res : j.at("resources"))
                 if (res.at("name").get<std::string>().rfind("L0/", 0) == 0 && res.at("kind").get<std::string>() != "mesh")
                     allocated += res.at("bytes").get<double>();
-            const auto [runs, params] = techniqueForLight(*desc, ParamValues(*desc), size == 0.0);
-            const double estimated = techniqueResourceBytes(*runs, params, {48, 40});
+            // What the light runs, resolved as the renderer resolves it (a point light's `hard`,
+            // `auto`'s pick).
+            RenderOptions options;
+            options.width = 48;
+            options.height = 40;
+            options.technique = desc->id;
+            options.lightSize = float(size);
+            const std::vector<LightState> lights = Renderer::resolveLights(loadScene("square-occluder"), options);
+            const TechniqueDesc* runs = lights.at(0).desc;
+            const double estimated = techniqueResourceBytes(*runs, lights.at(0).params, {48, 40});
             EXPECT_GT(allocated, 0.0) << runs->id;  // the stats list the light's resources
             EXPECT_GE(estimated, allocated) << runs->id;
             EXPECT_LE(estimated, allocated * 1.01 + 64.0) << runs->id;

@@ -153,7 +153,8 @@ TEST(Cli, ListJsonDescribesTechniquesAndScenes) {
             EXPECT_LE(p["default"].get<double>(), p["max"].get<double>());
         }
     }
-    EXPECT_EQ(ids, (std::set<std::string>{"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "ssv", "pvm", "pvmf", "spsm", "reference", "raytraced"}));
+    EXPECT_EQ(ids, (std::set<std::string>{"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "ssv", "pvm", "pvmf", "spsm", "auto",
+                                    "reference", "raytraced"}));
     EXPECT_GE(j["scenes"].size(), 9u);
     for (const auto& s : j["scenes"]) EXPECT_FALSE(s.contains("error")) << s.dump();
     EXPECT_EQ(run("list").code, 0);

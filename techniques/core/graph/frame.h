@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
@@ -54,6 +55,10 @@ struct LightState {
     ParamValues requestedParams;    // of requested
     ParamValues params;             // of desc
     LightView view;                 // light-centre frustum at the current time
+    // A choosing technique's (`auto`'s) pick and why (TechniqueChoice::report); null otherwise.
+    nlohmann::json choice;
+    bool idle = false;              // the choice runs nothing: no pass, visibility 1
+    bool runs() const { return light.castsShadows && !idle; }  // the light's passes run
 };
 
 class PassContext {

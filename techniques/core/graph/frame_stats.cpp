@@ -51,7 +51,7 @@ std::vector<Renderer::KernelCapReport> Renderer::kernelCapReports() {
     std::vector<KernelCapReport> out;
     for (auto& lp : lights_) {
         LightState& l = lp->state;
-        if (!l.light.castsShadows) continue;
+        if (!l.runs()) continue;
         for (const KernelCapDesc& k : l.desc->kernelCaps) {
             // Only once the passes that produce the kernel's resources have run.
             bool ready = true;
@@ -111,7 +111,10 @@ nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFra
                           {"size", l.light.size},
                           {"casts_shadows", l.light.castsShadows},
                           {"technique_requested", l.requested->id},
-                          {"technique", l.light.castsShadows ? l.desc->id : "none (casts no shadows)"}};
+                          {"technique", !l.light.castsShadows ? std::string("none (casts no shadows)")
+                                        : l.idle ? std::string("none (auto: no visible shadow)")
+                                                 : l.desc->id}};
+        if (!l.choice.is_null()) lj["auto"] = l.choice;
         lj["parameters"] = l.params.toJson(*l.desc);
         nlohmann::json inapplicable = nlohmann::json::object();
         for (const auto& [key, reason] : l.params.inapplicable(*l.desc)) inapplicable[key] = reason;
@@ -133,7 +136,7 @@ nlohmann::json Renderer::stats(const std::vector<double>& frameMs, int warmupFra
     }
     for (auto& lp : lights_) {
         LightState& l = lp->state;
-        if (!l.light.castsShadows) continue;
+        if (!l.runs()) continue;
         for (const CounterDesc& c : l.desc->counters) {
             if (!c.appliesWhen.empty() && !Condition(c.appliesWhen, *l.desc, l.desc->id + "." + c.name).holds(l.params))
                 continue;

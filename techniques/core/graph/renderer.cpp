@@ -73,6 +73,37 @@ bool writesOnlyFrameTextures(const TechniqueDesc& desc, const PassDesc& pass) {
     return true;
 }
 
+// What light `s` runs: its requested technique, a choosing technique's pick (`auto`), and `hard`
+// in place of a soft technique for a point light. Returns whether the technique or its parameters
+// changed.
+bool resolveLightTechnique(LightState& s, const Scene& scene, const Camera& camera, int width, int height,
+                           double time) {
+    const TechniqueDesc* before = s.desc;
+    const std::map<std::string, double> beforeValues = s.params.values();
+    const bool wasIdle = s.idle;
+    if (s.requested->choose) {
+        ChoiceInputs in;
+        in.scene = &scene;
+        in.light = &s.light;
+        in.camera = &camera;
+        in.width = width;
+        in.height = height;
+        in.params = &s.requestedParams;
+        in.time = time;
+        TechniqueChoice c = s.requested->choose(in);
+        s.choice = c.report;
+        s.idle = c.desc == nullptr;
+        const TechniqueDesc& picked = c.desc ? *c.desc : requireTechnique("hard", "auto");
+        const ParamValues values = c.desc ? *c.params : ParamValues(picked);
+        std::tie(s.desc, s.params) = techniqueForLight(picked, values, s.light.isPoint());
+    } else {
+        s.choice = nullptr;
+        s.idle = false;
+        std::tie(s.desc, s.params) = techniqueForLight(*s.requested, s.requestedParams, s.light.isPoint());
+    }
+    return s.desc != before || s.params.values() != beforeValues || s.idle != wasIdle;
+}
+
 }  // namespace
 
 std::vector<LightState> Renderer::resolveLights(const Scene& scene, const RenderOptions& options) {
@@ -103,7 +134,7 @@ std::vector<LightState> Renderer::resolveLights(const Scene& scene, const Render
                 usedKeys.insert(key);
             }
         }
-        std::tie(state.desc, state.params) = techniqueForLight(*state.requested, state.requestedParams, state.light.isPoint());
+        resolveLightTechnique(state, scene, scene.camera, options.width, options.height, 0.0);
     }
     for (const auto& [key, value] : options.sets) {
         if (usedKeys.count(key)) continue;
@@ -165,10 +196,11 @@ Renderer::~Renderer() {
 // ---- configuration ------------------------------------------------------------------------------------
 void Renderer::configureLight(LightSlot& slot) {
     LightState& s = slot.state;
-    // A point light runs no soft-shadow pass: hard shadows, with the shadow-map settings.
-    std::tie(s.desc, s.params) = techniqueForLight(*s.requested, s.requestedParams, s.light.isPoint());
+    // A point light runs no soft-shadow pass: hard shadows, with the shadow-map settings; `auto`
+    // runs what it picks for this light, camera and frame.
+    resolveLightTechnique(s, scene_, frame_.camera, frame_.width, frame_.height, frame_.time);
     slot.passes.clear();
-    if (s.light.castsShadows)
+    if (s.runs())
         for (const PassDesc& p : s.desc->passes) slot.passes.push_back(p.create());
 }
 
@@ -252,6 +284,12 @@ void Renderer::buildGraph() {
                                      "light casts no shadows: no shadow pass, visibility 1");
             continue;
         }
+        if (l.idle) {
+            for (const PassDesc& p : l.desc->passes)
+                graph_.addStaticSkip(g + l.desc->id + "/" + p.name, l.group, l.requested->id,
+                                     "auto: this light's shadows fall on no visible pixel: no shadow pass, visibility 1");
+            continue;
+        }
         if (l.desc != l.requested) {
             for (const PassDesc& p : l.requested->passes)
                 graph_.addStaticSkip(g + l.requested->id + "/" + p.name, l.group, l.requested->id,
@@ -280,7 +318,7 @@ void Renderer::buildGraph() {
     graph_.addPass("shade", "frame", "", shadeInputs, {"visibility", "image"}, {}, [this] {
         std::vector<const Texture*> visibility;
         for (const auto& slot : lights_) {
-            const Resource* v = slot->state.light.castsShadows ? pool_.find(slot->state.group + "/visibility") : nullptr;
+            const Resource* v = slot->state.runs() ? pool_.find(slot->state.group + "/visibility") : nullptr;
             visibility.push_back(v ? &v->texture : nullptr);
         }
         shade(visibility);
@@ -327,7 +365,7 @@ void Renderer::shadeWith(int frame, const std::vector<const Texture*>& visibilit
     renderFrame(frame, {"gbuffer"});
     std::vector<const Texture*> own(visibility);
     for (size_t i = 0; i < lights_.size(); ++i)
-        if (!lights_[i]->state.light.castsShadows) own[i] = nullptr;  // visibility 1, as the shade pass
+        if (!lights_[i]->state.runs()) own[i] = nullptr;  // visibility 1, as the shade pass
     y0 = std::clamp(y0, 0, frame_.height);
     y1 = y1 < 0 ? frame_.height : std::clamp(y1, y0, frame_.height);
     const bool band = y0 > 0 || y1 < frame_.height;
@@ -436,7 +474,7 @@ void Renderer::releaseUndeclaredResources() {
     for (const auto& [name, r] : pool_.all())
         if (name.rfind("frame/", 0) == 0) keep.push_back(name);
     for (const auto& lp : lights_) {
-        if (!lp->state.light.castsShadows) continue;
+        if (!lp->state.runs()) continue;
         for (const PassDesc& p : lp->state.desc->passes)
             for (const ResourceDesc& r : p.creates) keep.push_back(lp->state.group + "/" + r.name);
     }
@@ -459,6 +497,7 @@ void Renderer::setParam(const std::string& key, const std::string& value, int li
             graph_.setSource(s.group + "/param:" + key, hashValue(s.params.get(key)));
         }
     }
+    if (any) rechoose();  // `auto`'s budgets decide what its lights run
     if (!any) {
         // Name the parameters the techniques in use accept.
         const TechniqueDesc& desc = *lights_.at(lightIndices(light).at(0))->state.requested;
@@ -477,12 +516,17 @@ void Renderer::setLight(size_t index, const Light& light) {
         configureLight(slot);
         buildGraph();
         releaseUndeclaredResources();  // e.g. reference's sample maps once the light is a point
+    } else if (slot.state.requested->choose) {
+        rechoose();  // `auto`'s choice follows the light's size and pose
     }
     // Versions are bumped by updateSources() at the next frame: "light" when the pose, shape or
     // size changed (through the fitted view too), "light.radiance" when colour or intensity did.
 }
 
-void Renderer::setCamera(const Camera& camera) { frame_.camera = camera; }
+void Renderer::setCamera(const Camera& camera) {
+    frame_.camera = camera;
+    rechoose();  // `auto` measures the penumbra on screen from the camera
+}
 void Renderer::setAmbient(float ambient) {
     if (!std::isfinite(ambient) || ambient < 0.0f) throw InputError("setAmbient: expected a finite value >= 0");
     frame_.ambient = ambient;
@@ -505,6 +549,26 @@ void Renderer::resize(int width, int height) {
     // textures are reallocated when its pass next runs, so without a frame at B they still hold A.)
     graph_.invalidatePass("gbuffer");
     graph_.invalidatePass("shade");
+    rechoose();  // `auto`'s estimate of the penumbra in pixels follows the frame's size
+}
+
+void Renderer::rechoose() {
+    bool changed = false;
+    for (auto& lp : lights_) {
+        LightSlot& slot = *lp;
+        if (!slot.state.requested->choose) continue;
+        LightState probe = slot.state;
+        if (resolveLightTechnique(probe, scene_, frame_.camera, frame_.width, frame_.height, frame_.time)) {
+            configureLight(slot);
+            changed = true;
+        } else {
+            slot.state.choice = probe.choice;  // the same pick; its features and predictions may differ
+        }
+    }
+    if (changed) {
+        buildGraph();
+        releaseUndeclaredResources();
+    }
 }
 
 std::vector<const LightState*> Renderer::lights() const {
@@ -730,7 +794,7 @@ std::set<std::string> Renderer::internalRequests(bool withPixelRecords) const {
     std::set<std::string> out = {"visibility"};
     for (const auto& lp : lights_) {
         const LightState& l = lp->state;
-        if (!l.light.castsShadows) continue;
+        if (!l.runs()) continue;
         out.insert(l.group + "/visibility");
         for (const InternalDesc& i : l.desc->internals) {
             if (!internalApplies(i, l)) continue;
@@ -751,7 +815,7 @@ void Renderer::writeInternals(InternalSink& out, std::optional<glm::ivec2> pixel
     for (auto& lp : lights_) {
         LightState& l = lp->state;
         out.setPrefix(l.index == 0 ? "" : "light" + std::to_string(l.index) + "/");
-        if (!l.light.castsShadows) continue;
+        if (!l.runs()) continue;
         nlohmann::json lightRecord = {{"light", l.index}, {"technique", l.desc->id}};
         for (const InternalDesc& i : l.desc->internals) {
             if (!internalApplies(i, l)) continue;

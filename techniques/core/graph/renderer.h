@@ -148,6 +148,9 @@ private:
         std::vector<std::unique_ptr<Pass>> passes;  // one per pass of state.desc
     };
     void configureLight(LightSlot& slot);  // picks what runs (hard for a point light) and its passes
+    // Asks every light whose technique chooses (`auto`) again, and rebuilds the passes of those whose
+    // pick changed (after a parameter, light, camera or size change).
+    void rechoose();
     void buildGraph();
     void beginFrame(int frame, const std::set<std::string>& requested);  // time, sources, request
     void releaseUndeclaredResources();  // frees what no pass of the current graph creates

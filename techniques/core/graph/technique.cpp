@@ -259,6 +259,7 @@ nlohmann::json describeTechnique(const TechniqueDesc& desc) {
     j["citation"] = desc.citation;
     j["summary"] = desc.summary;
     j["soft"] = desc.soft;
+    if (desc.choose) j["chooses"] = true;  // runs no pass of its own: picks a technique per light
     j["parameters"] = nlohmann::json::array();
     for (const ParamDesc& p : desc.params) {
         nlohmann::json pj{{"key", p.key},       {"symbol", p.symbol},           {"type", paramTypeName(p.type)},
@@ -374,7 +375,8 @@ std::vector<std::string> validateTechnique(const TechniqueDesc& desc) {
         }
         checkCondition("", "");
     }
-    if (!visibility) problem("no pass creates 'visibility'");
+    if (!visibility && !desc.choose) problem("no pass creates 'visibility'");
+    if (desc.choose && !desc.passes.empty()) problem("a choosing technique declares passes of its own");
     std::set<std::string> internalNames;
     for (const InternalDesc& i : desc.internals) {
         if (!internalNames.insert(i.name).second) problem("internal '" + i.name + "' declared twice");

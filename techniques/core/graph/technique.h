@@ -161,6 +161,28 @@ struct CounterDesc {
     std::function<nlohmann::json(PassContext&)> count;
 };
 
+// ---- choosing techniques (`auto`) ---------------------------------------------------------------------
+// What a choosing technique sees of one light when it picks what that light runs: the scene, the
+// light (after --light-size), the camera, the frame size, its own parameters and the time.
+struct Scene;
+struct Light;
+struct Camera;
+struct ChoiceInputs {
+    const Scene* scene = nullptr;
+    const Light* light = nullptr;
+    const Camera* camera = nullptr;
+    int width = 0, height = 0;
+    const ParamValues* params = nullptr;
+    double time = 0.0;
+};
+// What it picked: a registered technique with its parameters, or nothing to run (`desc` null: the
+// light's shadow falls on no visible pixel, its visibility is 1), and why (for --stats and the HUD).
+struct TechniqueChoice {
+    const TechniqueDesc* desc = nullptr;
+    std::shared_ptr<ParamValues> params;  // of desc (shared: ParamValues is declared below)
+    nlohmann::json report;
+};
+
 // ---- the descriptor -------------------------------------------------------------------------------
 struct TechniqueDesc {
     std::string id;
@@ -178,6 +200,12 @@ struct TechniqueDesc {
     // ({key, value}), or nothing. Renderer::renderFrame applies it (setParam, so what depends on the
     // parameter runs again). Null: no rule.
     std::function<std::optional<std::pair<std::string, std::string>>(const ParamValues& params, double lightMs)> adapt;
+    // A technique that runs none of its own passes but picks, per light, another technique and its
+    // setting (`auto`, issue 25). Renderer::resolveLights and the memory estimate call it; the
+    // renderer calls it again whenever one of its inputs changes (its parameters, the light, the
+    // camera, the frame size) and rebuilds the light's passes when the choice changed. Null: the
+    // technique runs its own passes.
+    std::function<TechniqueChoice(const ChoiceInputs& inputs)> choose;
 
     const ParamDesc* findParam(const std::string& key) const;
     const InternalDesc* findInternal(const std::string& name) const;

@@ -186,6 +186,12 @@ Mesh loadGltfMesh(const std::string& path, const SceneLimits& limits = {},
 // same checks, no vertex read).
 uint64_t estimateGltfTriangles(const std::string& path);
 
+// "random:SEED": a generated scene (random_scene.cpp): 1 to 5 casters (boxes, spheres, cylinders,
+// thin plates; half touching the ground) over a ground quad, one square, disk or sphere light and a
+// camera, all drawn from SEED. loadScene accepts the name; the same seed gives the same scene.
+bool isRandomSceneName(const std::string& name);
+Scene randomScene(const std::string& name);  // InputError when SEED is not a whole number
+
 // Project root (holding assets/ and shaders/): $SHADOWLAB_ROOT if set, else the source directory
 // the binary was built from.
 std::string projectRoot();

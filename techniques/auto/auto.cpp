@@ -1,0 +1,521 @@
+// `auto` (issue 25; README.md beside this file): the features, the calibration file and the choice.
+#include "auto/auto.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <glm/gtc/matrix_transform.hpp>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include "error.h"
+#include "scene/json_reader.h"
+#include "scene/light_view.h"
+
+namespace shadowlab {
+
+namespace {
+
+std::string fmt(const char* format, double v) {
+    char text[64];
+    std::snprintf(text, sizeof text, format, v);
+    return text;
+}
+
+// Corners of a box.
+std::vector<glm::vec3> corners(const Bounds& b) {
+    std::vector<glm::vec3> out;
+    for (int i = 0; i < 8; ++i)
+        out.push_back({(i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z});
+    return out;
+}
+
+// Points spanning the light: its centre and the corners of the box around its surface.
+std::vector<glm::vec3> lightPoints(const Light& light) {
+    std::vector<glm::vec3> out = {light.position};
+    if (light.isPoint()) return out;
+    const float h = light.shape == LightShape::Square ? 0.5f * light.size : light.size;
+    const glm::vec3 r = light.right() * h, u = light.up * h;
+    const glm::vec3 d = light.shape == LightShape::Sphere ? light.direction * h : glm::vec3(0.0f);
+    for (float sr : {-1.0f, 1.0f})
+        for (float su : {-1.0f, 1.0f})
+            for (float sd : {-1.0f, 1.0f}) out.push_back(light.position + sr * r + su * u + sd * d);
+    return out;
+}
+
+Bounds intersect(const Bounds& a, const Bounds& b) {
+    Bounds out;
+    out.lo = glm::max(a.lo, b.lo);
+    out.hi = glm::min(a.hi, b.hi);
+    return out;
+}
+
+}  // namespace
+
+// ---- features -------------------------------------------------------------------------------------------
+nlohmann::json LightFeatures::toJson() const {
+    return {{"point", point},
+            {"light_extent", lightExtent},
+            {"caster_near", casterNear},
+            {"receiver_far", receiverFar},
+            {"penumbra_world", penumbraWorld},
+            {"penumbra_pixels", penumbraPixels},
+            {"penumbra_texels", penumbraTexels},
+            {"caster_triangles", casterTriangles},
+            {"shadow_on_screen", shadowOnScreen}};
+}
+
+LightFeatures measureLightFeatures(const Scene& scene, const Light& light, const Camera& camera, int width,
+                                   int height, double t) {
+    LightFeatures f;
+    f.point = light.isPoint();
+    f.lightExtent = f.point ? 0.0
+                    : light.shape == LightShape::Square ? double(light.size) * std::sqrt(2.0)
+                                                        : 2.0 * double(light.size);
+    const glm::vec3 dir = glm::normalize(light.direction);
+    auto depth = [&](const glm::vec3& p) { return double(glm::dot(p - light.position, dir)); };
+
+    // The casters' and the receivers' world bounds, and the casters' nearest depth (per vertex: the
+    // bounds' corners would put a corner of a tilted caster nearer than any of its points).
+    Bounds casters, receivers;
+    double near = std::numeric_limits<double>::infinity();
+    for (const Object& o : scene.objects) {
+        const glm::mat4 m = o.worldFromObjectAt(t);
+        if (o.castsShadows) f.casterTriangles += double(o.mesh.triangleCount());
+        for (const glm::vec3& p : o.mesh.positions) {
+            const glm::vec3 w = glm::vec3(m * glm::vec4(p, 1.0f));
+            if (o.castsShadows) {
+                casters.extend(w);
+                const double z = depth(w);
+                if (z > 1e-4) near = std::min(near, z);
+            }
+            if (o.receivesShadows) receivers.extend(w);
+        }
+    }
+    if (casters.empty() || receivers.empty() || !std::isfinite(near) || !light.castsShadows) {
+        f.shadowOnScreen = false;
+        return f;
+    }
+    double far = 0.0;
+    for (const glm::vec3& c : corners(receivers)) far = std::max(far, depth(c));
+    f.casterNear = near;
+    f.receiverFar = far;
+    f.penumbraWorld = far > near ? f.lightExtent * (far - near) / near : 0.0;
+
+    // Where shadows can fall: the box around the casters and their corners pushed from every light
+    // point to the farthest receiver depth, within the receivers' box.
+    Bounds region;
+    bool unbounded = false;
+    for (const glm::vec3& c : corners(casters)) {
+        region.extend(c);
+        for (const glm::vec3& l : lightPoints(light)) {
+            const double zc = depth(c), zl = depth(l);
+            if (zc - zl < 1e-3) {
+                unbounded = true;  // a caster beside or behind the light: its shadow is not bounded
+                continue;
+            }
+            region.extend(l + (c - l) * float((far - zl) / (zc - zl)));
+        }
+    }
+    region = unbounded ? receivers : intersect(region, receivers);
+    if (region.empty()) {
+        f.shadowOnScreen = false;
+        return f;
+    }
+
+    // Outside the view frustum when every corner lies beyond one of its planes.
+    const float aspect = float(width) / float(std::max(height, 1));
+    const glm::mat4 clip = camera.clipFromView(aspect) * camera.viewFromWorld();
+    const std::vector<glm::vec3> rc = corners(region);
+    for (int axis = 0; axis < 3 && f.shadowOnScreen; ++axis)
+        for (float side : {-1.0f, 1.0f}) {
+            bool allOut = true;
+            for (const glm::vec3& p : rc) {
+                const glm::vec4 q = clip * glm::vec4(p, 1.0f);
+                if (side * q[axis] <= q.w) allOut = false;
+            }
+            if (allOut) {
+                f.shadowOnScreen = false;
+                break;
+            }
+        }
+
+    // Eq. 5 without the normal term (a receiver facing the camera): the penumbra at the region's
+    // nearest eye depth (linear over the box, so at a corner), not nearer than the near plane.
+    const glm::mat4 view = camera.viewFromWorld();
+    double eye = std::numeric_limits<double>::infinity();
+    for (const glm::vec3& p : rc) eye = std::min(eye, double(-(view * glm::vec4(p, 1.0f)).z));
+    eye = std::max(eye, double(camera.nearPlane));
+    const double focalPixels = double(height) / (2.0 * std::tan(glm::radians(double(camera.fovYDegrees)) * 0.5));
+    f.penumbraPixels = f.penumbraWorld * focalPixels / eye;
+
+    // From the light's centre the penumbra at depth z_r spans the angle w_p / z_r; a texel of a
+    // 1024^2 map fitted to the scene spans 2 tan(half fov) / 1024.
+    const LightView lv = fitLightView(light, light.position, scene.bounds(t));
+    f.penumbraTexels = far > 0.0 ? (f.penumbraWorld / far) / (2.0 * double(lv.tanHalfFov) / 1024.0) : 0.0;
+    return f;
+}
+
+// ---- calibration ------------------------------------------------------------------------------------------
+std::string CalibrationSetting::describe() const {
+    std::string text = technique;
+    if (sets.empty()) return text + " defaults";
+    for (const auto& [k, v] : sets) text += " " + k + "=" + v;
+    return text;
+}
+
+nlohmann::json Calibration::toJson() const {
+    nlohmann::json j;
+    j["format"] = "shadowlab-calibration";
+    j["version"] = kVersion;
+    j["program"] = program;
+    j["date"] = date;
+    j["machine"] = {{"gl_renderer", glRenderer}, {"cpu", cpu}, {"lp_num_threads", lpNumThreads}, {"probe_ms", probeMs}};
+    j["reference"] = reference;
+    j["settings"] = nlohmann::json::array();
+    for (const CalibrationSetting& s : settings) {
+        nlohmann::json sets = nlohmann::json::object();
+        for (const auto& [k, v] : s.sets) sets[k] = v;
+        j["settings"].push_back({{"technique", s.technique}, {"set", sets}});
+    }
+    j["cases"] = nlohmann::json::array();
+    for (const CalibrationCase& c : cases) {
+        nlohmann::json results = nlohmann::json::array();
+        for (const CalibrationResult& r : c.results)
+            results.push_back({{"rmse", r.rmse}, {"rmse_penumbra", r.rmsePenumbra}, {"fixed_ms", r.fixedMs}, {"frame_ms", r.frameMs}});
+        j["cases"].push_back({{"scene", c.scene},
+                              {"light_size", c.lightSize},
+                              {"size", {c.width, c.height}},
+                              {"features", c.features.toJson()},
+                              {"results", results}});
+    }
+    return j;
+}
+
+Calibration loadCalibration(const std::string& path) {
+    const JsonDocument doc = JsonDocument::fromFile(path, "calibration");
+    const JsonReader r(doc);
+    const JsonFields top(r, doc.root(), "", {"format", "version", "program", "date", "machine", "reference", "settings", "cases"});
+    Calibration cal;
+    cal.file = path;
+    top.oneOf("format", {"shadowlab-calibration"});
+    const int64_t version = top.integer("version", 1, 1000);
+    if (version != Calibration::kVersion)
+        r.fail("version", "version " + std::to_string(Calibration::kVersion) + " (remake it: shadowlab bench --calibrate)",
+               std::to_string(version));
+    cal.program = top.string("program", "");
+    cal.date = top.string("date", "");
+    cal.reference = top.string("reference", "");
+    const JsonFields machine = top.object("machine", {"gl_renderer", "cpu", "lp_num_threads", "probe_ms"});
+    cal.glRenderer = machine.string("gl_renderer", "");
+    cal.cpu = machine.string("cpu", "");
+    cal.lpNumThreads = machine.string("lp_num_threads", "");
+    cal.probeMs = machine.number("probe_ms", greaterThan(0.0));
+
+    const nlohmann::json& settings = top.require("settings", "an array of settings");
+    if (!settings.is_array() || settings.empty()) r.fail("settings", "a non-empty array of settings", describeJson(settings));
+    for (size_t i = 0; i < settings.size(); ++i) {
+        const std::string p = elementPath("settings", i);
+        const JsonFields f(r, settings[i], p, {"technique", "set"});
+        CalibrationSetting s;
+        s.technique = f.string("technique");
+        const TechniqueDesc* desc = findTechnique(s.technique);
+        if (!desc || desc->choose) {
+            std::string ids;
+            for (const TechniqueDesc* d : allTechniques())
+                if (!d->choose) ids += (ids.empty() ? "" : ", ") + d->id;
+            r.fail(fieldPath(p, "technique"), "a registered technique (" + ids + ")", describeJson(settings[i]["technique"]));
+        }
+        ParamValues check(*desc);
+        if (const nlohmann::json* sets = f.find("set")) {
+            r.requireObject(*sets, fieldPath(p, "set"));
+            for (const auto& [k, v] : sets->items()) {
+                const std::string where = r.place(fieldPath(fieldPath(p, "set"), k));
+                if (!v.is_string()) r.fail(fieldPath(fieldPath(p, "set"), k), "a value as --set text (a string)", describeJson(v));
+                check.set(*desc, k, v.get<std::string>(), where);
+                s.sets.push_back({k, v.get<std::string>()});
+            }
+        }
+        cal.settings.push_back(std::move(s));
+    }
+
+    const nlohmann::json& cases = top.require("cases", "an array of cases");
+    if (!cases.is_array() || cases.empty()) r.fail("cases", "a non-empty array of measured cases", describeJson(cases));
+    for (size_t i = 0; i < cases.size(); ++i) {
+        const std::string p = elementPath("cases", i);
+        const JsonFields f(r, cases[i], p, {"scene", "light_size", "size", "features", "results"});
+        CalibrationCase c;
+        c.scene = f.string("scene");
+        c.lightSize = f.number("light_size", atLeast(0.0));
+        const nlohmann::json& size = f.require("size", "[width, height]");
+        if (!size.is_array() || size.size() != 2) r.fail(fieldPath(p, "size"), "[width, height]", describeJson(size));
+        c.width = int(r.integer(size[0], elementPath(fieldPath(p, "size"), 0), 1, 8192));
+        c.height = int(r.integer(size[1], elementPath(fieldPath(p, "size"), 1), 1, 8192));
+        const JsonFields ff = f.object("features", {"point", "light_extent", "caster_near", "receiver_far", "penumbra_world",
+                                                    "penumbra_pixels", "penumbra_texels", "caster_triangles",
+                                                    "shadow_on_screen"});
+        c.features.point = ff.boolean("point");
+        c.features.lightExtent = ff.number("light_extent", atLeast(0.0));
+        c.features.casterNear = ff.number("caster_near", atLeast(0.0));
+        c.features.receiverFar = ff.number("receiver_far", atLeast(0.0));
+        c.features.penumbraWorld = ff.number("penumbra_world", atLeast(0.0));
+        c.features.penumbraPixels = ff.number("penumbra_pixels", atLeast(0.0));
+        c.features.penumbraTexels = ff.number("penumbra_texels", atLeast(0.0));
+        c.features.casterTriangles = ff.number("caster_triangles", atLeast(0.0));
+        c.features.shadowOnScreen = ff.boolean("shadow_on_screen");
+        const nlohmann::json& results = f.require("results", "an array of results, one per setting");
+        if (!results.is_array() || results.size() != cal.settings.size())
+            r.fail(fieldPath(p, "results"), "an array of " + std::to_string(cal.settings.size()) + " results (one per setting)",
+                   describeJson(results));
+        for (size_t k = 0; k < results.size(); ++k) {
+            const JsonFields rf(r, results[k], elementPath(fieldPath(p, "results"), k), {"rmse", "rmse_penumbra", "fixed_ms", "frame_ms"});
+            CalibrationResult res;
+            res.rmse = rf.number("rmse", inRange(0.0, 1.0));
+            res.rmsePenumbra = rf.number("rmse_penumbra", inRange(0.0, 1.0));
+            res.fixedMs = rf.number("fixed_ms", atLeast(0.0));
+            res.frameMs = rf.number("frame_ms", atLeast(0.0));
+            c.results.push_back(res);
+        }
+        cal.cases.push_back(std::move(c));
+    }
+    return cal;
+}
+
+std::string defaultCalibrationPath() {
+    if (const char* env = std::getenv("SHADOWLAB_CALIBRATION"); env && *env) return env;
+    return projectRoot() + "/assets/calibration/default.json";
+}
+
+const Calibration& defaultCalibration() {
+    static std::mutex mutex;
+    static std::map<std::string, Calibration> loaded;
+    const std::string path = defaultCalibrationPath();
+    std::lock_guard<std::mutex> lock(mutex);
+    auto it = loaded.find(path);
+    if (it == loaded.end()) it = loaded.emplace(path, loadCalibration(path)).first;
+    return it->second;
+}
+
+double machineProbeMs() {
+    static const double probe = [] {
+        double best = std::numeric_limits<double>::infinity();
+        volatile float sink = 0.0f;
+        for (int round = 0; round < 3; ++round) {
+            const auto t0 = std::chrono::steady_clock::now();
+            float x = 0.5f, acc = 0.0f;
+            for (int i = 0; i < 2'000'000; ++i) {
+                x = x * 1.0000001f + 1e-7f;
+                acc += std::sqrt(x + float(i & 7));
+            }
+            sink = sink + acc;
+            best = std::min(best, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        }
+        return std::max(best, 1e-3);
+    }();
+    return probe;
+}
+
+// ---- prediction -------------------------------------------------------------------------------------------
+double featureDistance(const LightFeatures& a, const LightFeatures& b) {
+    const double dp = std::log2(1.0 + a.penumbraPixels) - std::log2(1.0 + b.penumbraPixels);
+    const double dt = std::log2(1.0 + a.penumbraTexels) - std::log2(1.0 + b.penumbraTexels);
+    const double dc = 0.5 * (std::log10(1.0 + a.casterTriangles) - std::log10(1.0 + b.casterTriangles));
+    return std::sqrt(dp * dp + dt * dt + dc * dc);
+}
+
+Prediction predictSetting(const Calibration& cal, size_t setting, const LightFeatures& features, bool penumbraBudget,
+                          int pixels, double machineScale) {
+    // The cases of an area light (a point-light case says nothing of soft shadows), nearest first.
+    std::vector<std::pair<double, size_t>> order;
+    for (size_t i = 0; i < cal.cases.size(); ++i)
+        if (!cal.cases[i].features.point) order.push_back({featureDistance(features, cal.cases[i].features), i});
+    std::sort(order.begin(), order.end());
+    Prediction p;
+    if (order.empty()) {
+        p.error = 1.0;
+        p.distance = std::numeric_limits<double>::infinity();
+        return p;
+    }
+    const size_t k = std::min<size_t>(2, order.size());
+    p.distance = order[0].first;
+    std::vector<double> ms;
+    for (size_t n = 0; n < k; ++n) {
+        const CalibrationCase& c = cal.cases[order[n].second];
+        const CalibrationResult& r = c.results.at(setting);
+        p.error = std::max(p.error, penumbraBudget ? r.rmsePenumbra : r.rmse);
+        const double scale = double(pixels) / double(std::max(1, c.width * c.height));
+        ms.push_back((r.fixedMs + r.frameMs * scale) * machineScale);
+        p.nearest.push_back(c.scene + " light " + fmt("%g", c.lightSize));
+    }
+    p.ms = *std::max_element(ms.begin(), ms.end());
+    return p;
+}
+
+TechniqueChoice chooseTechnique(const Calibration& cal, const LightFeatures& features, const AutoBudget& budget,
+                                int pixels, double machineScale) {
+    TechniqueChoice choice;
+    const std::string metric = budget.penumbra ? "penumbra RMSE" : "RMSE";
+    choice.report["budget"] = {{"error", budget.error}, {"on", budget.penumbra ? "penumbra" : "all"}};
+    if (budget.timeMs > 0.0) choice.report["budget"]["time_ms"] = budget.timeMs;
+    choice.report["features"] = features.toJson();
+    auto pick = [&](const TechniqueDesc* desc, const std::vector<std::pair<std::string, std::string>>& sets) {
+        choice.desc = desc;
+        choice.params = std::make_shared<ParamValues>(*desc);
+        for (const auto& [k, v] : sets) choice.params->set(*desc, k, v, cal.file.empty() ? "calibration" : cal.file);
+        std::string setting;
+        for (const auto& [k, v] : sets) setting += (setting.empty() ? "" : " ") + k + "=" + v;
+        choice.report["technique"] = desc->id;
+        choice.report["setting"] = setting.empty() ? "defaults" : setting;
+    };
+    const TechniqueDesc& hard = requireTechnique("hard", "auto");
+    if (features.point) {
+        pick(&hard, {});
+        choice.report["rule"] = "point light";
+        choice.report["why"] = "a point light (size 0) casts hard shadows: hard";
+        return choice;
+    }
+    if (!features.shadowOnScreen) {
+        choice.desc = nullptr;
+        choice.report["technique"] = "none";
+        choice.report["setting"] = "";
+        choice.report["rule"] = "no visible shadow";
+        choice.report["why"] = "the region where this light's shadows can fall lies outside the camera's view: nothing runs, v = 1";
+        return choice;
+    }
+    if (features.penumbraPixels < 1.0) {
+        pick(&hard, {});
+        choice.report["rule"] = "penumbra under a pixel";
+        choice.report["why"] = "the largest penumbra is at most " + fmt("%.2f", features.penumbraPixels) +
+                               " pixel (conservative estimate): hard";
+        return choice;
+    }
+
+    // The calibration: every setting's predicted error and time; the cheapest within both budgets.
+    double widest = 0.0;
+    for (const CalibrationCase& c : cal.cases) widest = std::max(widest, c.features.penumbraPixels);
+    std::vector<Prediction> predictions;
+    for (size_t s = 0; s < cal.settings.size(); ++s)
+        predictions.push_back(predictSetting(cal, s, features, budget.penumbra, pixels, machineScale));
+    const bool outside = predictions.empty() || predictions[0].distance > kOutsideCalibration ||
+                         features.penumbraPixels > 2.0 * widest;
+    const bool timed = budget.timeMs > 0.0;
+    long best = -1;
+    nlohmann::json alternatives = nlohmann::json::array();
+    for (size_t s = 0; s < cal.settings.size(); ++s) {
+        const Prediction& p = predictions[s];
+        std::string rejected;
+        if (!outside && p.error > budget.error)
+            rejected = "predicted " + metric + " " + fmt("%.4f", p.error) + " > budget " + fmt("%.4f", budget.error);
+        else if (timed && p.ms > budget.timeMs)
+            rejected = "predicted " + fmt("%.2f", p.ms) + " ms > time budget " + fmt("%.2f", budget.timeMs) + " ms";
+        alternatives.push_back({{"setting", cal.settings[s].describe()},
+                                {"predicted_error", p.error},
+                                {"predicted_ms", p.ms},
+                                {"rejected", rejected}});
+        if (!rejected.empty()) continue;
+        // Within the budgets: the cheapest; outside the calibration's range: the most accurate.
+        const bool better = best < 0 || (outside ? p.error < predictions[size_t(best)].error
+                                                 : p.ms < predictions[size_t(best)].ms);
+        if (better) best = long(s);
+    }
+    std::string rule = outside ? "outside the calibration" : "calibration";
+    if (best < 0) {
+        // Nothing meets the error budget within the time budget: the most accurate within the time
+        // budget, else the fastest.
+        rule = "nothing meets the budget";
+        for (size_t s = 0; s < predictions.size(); ++s) {
+            const bool fits = !timed || predictions[s].ms <= budget.timeMs;
+            if (fits && (best < 0 || predictions[s].error < predictions[size_t(best)].error)) best = long(s);
+        }
+        if (best < 0)
+            for (size_t s = 0; s < predictions.size(); ++s)
+                if (best < 0 || predictions[s].ms < predictions[size_t(best)].ms) best = long(s);
+    }
+    const CalibrationSetting& chosen = cal.settings[size_t(best)];
+    pick(&requireTechnique(chosen.technique, cal.file), chosen.sets);
+    for (nlohmann::json& a : alternatives)
+        if (a["setting"] == chosen.describe()) a["rejected"] = "chosen";
+    const Prediction& p = predictions[size_t(best)];
+    choice.report["rule"] = rule;
+    choice.report["predicted"] = {{"error", p.error}, {"ms", p.ms}, {"distance", p.distance}, {"nearest", p.nearest}};
+    choice.report["alternatives"] = alternatives;
+    choice.report["calibration"] = {{"file", cal.file}, {"cases", cal.cases.size()}, {"machine_scale", machineScale}};
+    const std::string what = chosen.describe();
+    if (rule == "calibration")
+        choice.report["why"] = what + ": the cheapest setting predicted within the budget (" + metric + " " +
+                               fmt("%.4f", p.error) + " <= " + fmt("%.4f", budget.error) + ", " + fmt("%.2f", p.ms) + " ms)";
+    else if (rule == "outside the calibration")
+        choice.report["why"] = what + ": the light's features lie outside the calibration's range (distance " +
+                               fmt("%.2f", p.distance) + "), so the most accurate setting" +
+                               (timed ? " within the time budget" : "") + " is taken";
+    else
+        choice.report["why"] = what + ": no setting is predicted within the budget" +
+                               std::string(timed ? " and the time budget" : "") + "; the most accurate that fits (" +
+                               metric + " " + fmt("%.4f", p.error) + ")";
+    return choice;
+}
+
+// ---- the descriptor ---------------------------------------------------------------------------------------
+const TechniqueDesc& autoTechnique() {
+    static const TechniqueDesc desc = [] {
+        TechniqueDesc d;
+        d.id = "auto";
+        d.name = "Auto: the cheapest technique within an error budget";
+        d.citation = "this project (issue 25); penumbra estimate from guennebaud2007 eq. 4-5";
+        d.summary = "Per light, picks the cheapest registered technique and setting whose predicted error meets "
+                    "error_budget: a point light or a penumbra under a pixel takes hard, a shadow on no visible pixel "
+                    "runs nothing, else a measured calibration (shadowlab bench --calibrate) predicts each setting's "
+                    "error and time. --stats says what it chose and why.";
+        d.soft = true;
+        ParamDesc budget;
+        budget.key = "error_budget";
+        budget.type = ParamDesc::Type::Float;
+        budget.defaultValue = 0.02;
+        budget.minValue = 0.0005;
+        budget.maxValue = 1.0;
+        budget.step = 0.001;
+        budget.doc = "the largest RMSE of v against the exact visibility the choice may predict (default 0.02: about "
+                     "the error of a good filtered soft shadow on the scenes in assets/)";
+        d.params.push_back(budget);
+        ParamDesc on;
+        on.key = "budget_on";
+        on.type = ParamDesc::Type::Enum;
+        on.choices = {"all", "penumbra"};
+        on.defaultValue = 0;
+        on.doc = "where the error is measured: the whole image, or the reference's penumbra (0 < v < 1) only";
+        d.params.push_back(on);
+        ParamDesc time;
+        time.key = "time_budget_ms";
+        time.type = ParamDesc::Type::Float;
+        time.unit = "ms";
+        time.defaultValue = 0.0;
+        time.minValue = 0.0;
+        time.maxValue = 10000.0;
+        time.step = 1.0;
+        time.doc = "the largest predicted shadow_ms of the choice (0: none); when nothing meets both budgets, the most "
+                   "accurate setting within this one";
+        d.params.push_back(time);
+        d.choose = [](const ChoiceInputs& in) {
+            const LightFeatures f = measureLightFeatures(*in.scene, *in.light, *in.camera, in.width, in.height, in.time);
+            AutoBudget b;
+            b.error = in.params->get("error_budget");
+            b.penumbra = in.params->getChoice("budget_on") == "penumbra";
+            b.timeMs = in.params->get("time_budget_ms");
+            // The facts need no calibration: a point light takes hard even without the file.
+            if (f.point || !f.shadowOnScreen || f.penumbraPixels < 1.0) {
+                static const Calibration none;
+                return chooseTechnique(none, f, b, in.width * in.height, 1.0);
+            }
+            const Calibration& cal = defaultCalibration();
+            const double scale = std::clamp(machineProbeMs() / cal.probeMs, 0.25, 4.0);
+            return chooseTechnique(cal, f, b, in.width * in.height, scale);
+        };
+        return d;
+    }();
+    return desc;
+}
+
+}  // namespace shadowlab

@@ -1,0 +1,370 @@
+// `auto` (issue 25): the features against the closed form of square-occluder, the choice on
+// synthetic calibrations (the facts first, then the cheapest setting within the budgets), the
+// calibration file's validation, generated scenes, and renders whose stats show what ran.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "auto/auto.h"
+#include "error.h"
+#include "graph/renderer.h"
+#include "scene/scene.h"
+#include "support/gl_fixture.h"
+
+namespace fs = std::filesystem;
+
+namespace shadowlab {
+namespace {
+
+LightFeatures softFeatures(double pixels, double texels = 40.0, double triangles = 100.0) {
+    LightFeatures f;
+    f.lightExtent = 1.0;
+    f.penumbraPixels = pixels;
+    f.penumbraTexels = texels;
+    f.casterTriangles = triangles;
+    return f;
+}
+
+// Three settings: hard (cheap, wrong in a penumbra), pcss (middling), ssv (accurate, costly), on
+// two cases; the second with wider penumbrae, where every error is larger.
+Calibration syntheticCalibration() {
+    Calibration cal;
+    cal.probeMs = 10.0;
+    cal.settings = {{"hard", {}}, {"pcss", {}}, {"ssv", {}}};
+    CalibrationCase narrow;
+    narrow.scene = "narrow";
+    narrow.lightSize = 0.5;
+    narrow.width = narrow.height = 100;
+    narrow.features = softFeatures(10.0);
+    narrow.results = {{0.05, 0.2, 1.0, 1.0}, {0.015, 0.05, 0.5, 5.0}, {0.004, 0.01, 0.0, 20.0}};
+    CalibrationCase wide = narrow;
+    wide.scene = "wide";
+    wide.features = softFeatures(40.0);
+    wide.results = {{0.09, 0.3, 1.0, 1.0}, {0.03, 0.08, 0.5, 5.0}, {0.006, 0.015, 0.0, 20.0}};
+    cal.cases = {narrow, wide};
+    return cal;
+}
+
+TEST(AutoChoice, APointLightTakesHardWithoutACalibration) {
+    LightFeatures f;
+    f.point = true;
+    const TechniqueChoice c = chooseTechnique(Calibration{}, f, AutoBudget{}, 512 * 512, 1.0);
+    ASSERT_NE(c.desc, nullptr);
+    EXPECT_EQ(c.desc->id, "hard");
+    EXPECT_EQ(c.report["rule"], "point light");
+}
+
+TEST(AutoChoice, APenumbraUnderAPixelTakesHard) {
+    const TechniqueChoice c = chooseTechnique(syntheticCalibration(), softFeatures(0.6), AutoBudget{}, 512 * 512, 1.0);
+    ASSERT_NE(c.desc, nullptr);
+    EXPECT_EQ(c.desc->id, "hard");
+    EXPECT_EQ(c.report["rule"], "penumbra under a pixel");
+    // One pixel and more: the calibration decides.
+    EXPECT_NE(chooseTechnique(syntheticCalibration(), softFeatures(1.5), AutoBudget{}, 512 * 512, 1.0).report["rule"],
+              "penumbra under a pixel");
+}
+
+TEST(AutoChoice, AShadowOnNoVisiblePixelRunsNothing) {
+    LightFeatures f = softFeatures(20.0);
+    f.shadowOnScreen = false;
+    const TechniqueChoice c = chooseTechnique(syntheticCalibration(), f, AutoBudget{}, 512 * 512, 1.0);
+    EXPECT_EQ(c.desc, nullptr);
+    EXPECT_EQ(c.report["rule"], "no visible shadow");
+}
+
+TEST(AutoChoice, TheCheapestSettingWithinTheBudgetAndWhyTheOthersWereRejected) {
+    const Calibration cal = syntheticCalibration();
+    const int pixels = 100 * 100;  // the calibration's size: times as measured
+    AutoBudget b;
+    // Between the two cases: the prediction takes the larger error of the two nearest (conservative).
+    b.error = 0.05;
+    TechniqueChoice c = chooseTechnique(cal, softFeatures(20.0), b, pixels, 1.0);
+    EXPECT_EQ(c.desc->id, "pcss");  // hard's 0.09 > 0.05; pcss 0.03 in 5.5 ms; ssv 0.006 in 20 ms
+    EXPECT_EQ(c.report["rule"], "calibration");
+    EXPECT_NEAR(c.report["predicted"]["error"].get<double>(), 0.03, 1e-12);
+    EXPECT_NEAR(c.report["predicted"]["ms"].get<double>(), 5.5, 1e-9);
+    bool hardRejected = false;
+    for (const auto& a : c.report["alternatives"])
+        if (a["setting"] == "hard defaults") {
+            hardRejected = a["rejected"].get<std::string>().find("predicted RMSE 0.0900 > budget 0.0500") != std::string::npos;
+        }
+    EXPECT_TRUE(hardRejected) << c.report.dump(1);
+    // A tighter budget: the accurate setting.
+    b.error = 0.01;
+    EXPECT_EQ(chooseTechnique(cal, softFeatures(20.0), b, pixels, 1.0).desc->id, "ssv");
+    // A loose one: the cheapest of all.
+    b.error = 0.2;
+    EXPECT_EQ(chooseTechnique(cal, softFeatures(20.0), b, pixels, 1.0).desc->id, "hard");
+    // Over the penumbra, errors are larger: the same budget needs more.
+    b.error = 0.05;
+    b.penumbra = true;
+    EXPECT_EQ(chooseTechnique(cal, softFeatures(20.0), b, pixels, 1.0).desc->id, "ssv");
+}
+
+TEST(AutoChoice, TimesScaleWithThePixelsAndTheMachine) {
+    const Calibration cal = syntheticCalibration();
+    AutoBudget b;
+    b.error = 0.05;
+    // 4x the pixels: pcss's per-pixel 5 ms becomes 20, its fixed 0.5 stays.
+    TechniqueChoice c = chooseTechnique(cal, softFeatures(20.0), b, 4 * 100 * 100, 1.0);
+    EXPECT_NEAR(c.report["predicted"]["ms"].get<double>(), 20.5, 1e-9);
+    // A machine twice as slow.
+    c = chooseTechnique(cal, softFeatures(20.0), b, 100 * 100, 2.0);
+    EXPECT_NEAR(c.report["predicted"]["ms"].get<double>(), 11.0, 1e-9);
+}
+
+TEST(AutoChoice, NothingWithinBothBudgetsTakesTheMostAccurateWithinTheTime) {
+    const Calibration cal = syntheticCalibration();
+    AutoBudget b;
+    b.error = 0.001;  // nothing is that accurate
+    TechniqueChoice c = chooseTechnique(cal, softFeatures(20.0), b, 100 * 100, 1.0);
+    EXPECT_EQ(c.desc->id, "ssv");
+    EXPECT_EQ(c.report["rule"], "nothing meets the budget");
+    b.timeMs = 10.0;  // ssv's 20 ms is over the time budget: pcss is the most accurate within it
+    c = chooseTechnique(cal, softFeatures(20.0), b, 100 * 100, 1.0);
+    EXPECT_EQ(c.desc->id, "pcss");
+    // Within the error budget but over the time budget: rejected for its time.
+    b.error = 0.01;
+    c = chooseTechnique(cal, softFeatures(20.0), b, 100 * 100, 1.0);
+    EXPECT_EQ(c.desc->id, "pcss");
+    bool ssvRejectedForTime = false;
+    for (const auto& a : c.report["alternatives"])
+        if (a["setting"] == "ssv defaults") ssvRejectedForTime = a["rejected"].get<std::string>().find("time budget") != std::string::npos;
+    EXPECT_TRUE(ssvRejectedForTime) << c.report.dump(1);
+}
+
+TEST(AutoChoice, FeaturesOutsideTheCalibrationTakeTheMostAccurateAndSaySo) {
+    const Calibration cal = syntheticCalibration();
+    AutoBudget b;
+    b.error = 0.2;  // hard would do inside the range
+    const TechniqueChoice c = chooseTechnique(cal, softFeatures(400.0), b, 100 * 100, 1.0);
+    EXPECT_EQ(c.report["rule"], "outside the calibration");
+    EXPECT_EQ(c.desc->id, "ssv");
+}
+
+// ---- features --------------------------------------------------------------------------------------
+// square-occluder (DESIGN.md section 5): w_l = 1, occluder at depth 2 below the light, floor at 4.
+// The true largest penumbra is w_l (z_r - z_o) / z_o = 1 world unit along an axis; the estimate takes
+// the light's diagonal (sqrt 2), so it is at least 1 and at most 1.5.
+TEST(AutoFeatures, SquareOccluderPenumbraIsBoundedFromAbove) {
+    const Scene scene = loadScene("square-occluder");
+    const LightFeatures f = measureLightFeatures(scene, scene.lights[0], scene.camera, 512, 512);
+    EXPECT_FALSE(f.point);
+    EXPECT_NEAR(f.casterNear, 2.0 - 0.0005, 1e-3);
+    EXPECT_NEAR(f.receiverFar, 4.0, 1e-3);
+    EXPECT_GE(f.penumbraWorld, 1.0);
+    EXPECT_LE(f.penumbraWorld, 1.5);
+    EXPECT_TRUE(f.shadowOnScreen);
+    // Pixels: linear in the frame's height; texels: independent of it.
+    const LightFeatures half = measureLightFeatures(scene, scene.lights[0], scene.camera, 256, 256);
+    EXPECT_NEAR(half.penumbraPixels * 2.0, f.penumbraPixels, 1e-6 * f.penumbraPixels);
+    EXPECT_DOUBLE_EQ(half.penumbraTexels, f.penumbraTexels);
+    // The penumbra as drawn: at least what the camera's nearest floor point under the shadow shows.
+    EXPECT_GT(f.penumbraPixels, 30.0);
+    // A smaller light: a proportionally smaller penumbra.
+    Light small = scene.lights[0];
+    small.size = 0.01f;
+    EXPECT_NEAR(measureLightFeatures(scene, small, scene.camera, 512, 512).penumbraWorld, 0.01 * f.penumbraWorld, 1e-6);
+}
+
+TEST(AutoFeatures, AShadowBehindTheCameraIsNotOnScreen) {
+    const Scene scene = loadScene("square-occluder");
+    Camera away = scene.camera;
+    away.target = away.position + (away.position - scene.camera.target);  // looking away from the floor
+    EXPECT_FALSE(measureLightFeatures(scene, scene.lights[0], away, 512, 512).shadowOnScreen);
+    // A light that casts no shadow has none anywhere.
+    Light off = scene.lights[0];
+    off.castsShadows = false;
+    EXPECT_FALSE(measureLightFeatures(scene, off, scene.camera, 512, 512).shadowOnScreen);
+}
+
+// ---- the calibration file ----------------------------------------------------------------------------
+std::string writeFile(const std::string& name, const std::string& text) {
+    const std::string path = (fs::temp_directory_path() / name).string();
+    std::ofstream(path) << text;
+    return path;
+}
+
+TEST(AutoCalibration, RoundTripsThroughItsFile) {
+    Calibration cal = syntheticCalibration();
+    cal.program = "shadowlab test";
+    cal.settings[1].sets = {{"sm_size", "512"}};
+    const std::string path = writeFile("shadowlab-auto-roundtrip.json", cal.toJson().dump(1));
+    const Calibration back = loadCalibration(path);
+    ASSERT_EQ(back.settings.size(), 3u);
+    EXPECT_EQ(back.settings[1].describe(), "pcss sm_size=512");
+    ASSERT_EQ(back.cases.size(), 2u);
+    EXPECT_DOUBLE_EQ(back.cases[1].results[2].rmse, 0.006);
+    EXPECT_DOUBLE_EQ(back.cases[1].features.penumbraPixels, 40.0);
+    EXPECT_DOUBLE_EQ(back.probeMs, 10.0);
+}
+
+TEST(AutoCalibration, BadFilesNameTheFileLineAndField) {
+    const nlohmann::json good = syntheticCalibration().toJson();
+    auto expectError = [&](nlohmann::json j, const std::string& needle) {
+        const std::string path = writeFile("shadowlab-auto-bad.json", j.dump(1));
+        try {
+            loadCalibration(path);
+            ADD_FAILURE() << "accepted: " << needle;
+        } catch (const InputError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find(path), std::string::npos) << what;
+            EXPECT_NE(what.find(needle), std::string::npos) << what;
+        }
+    };
+    nlohmann::json j = good;
+    j["version"] = 7;
+    expectError(j, "version");
+    j = good;
+    j["settings"][1]["technique"] = "magic";
+    expectError(j, "settings[1].technique");
+    j = good;
+    j["settings"][1]["technique"] = "auto";  // auto cannot choose itself
+    expectError(j, "settings[1].technique");
+    j = good;
+    j["settings"][0]["set"] = {{"sm_size", "0"}};
+    expectError(j, "sm_size");
+    j = good;
+    j["cases"][0]["results"].erase(0);
+    expectError(j, "cases[0].results");
+    j = good;
+    j["cases"][1]["results"][0]["rmse"] = -1;
+    expectError(j, "cases[1].results[0].rmse");
+    j = good;
+    j["machine"].erase("probe_ms");
+    expectError(j, "probe_ms");
+}
+
+// The shipped calibration predicts what it did not see: each scene's cases left out in turn and
+// predicted from the others' (as a new scene would be). Two measures, with the values measured on
+// the shipped file in the note of issue 25:
+//  - per (case, setting), the prediction (the larger error of the two nearest cases) is not below
+//    the measured error by more than 0.01 on at least 70% of them (measured: 76%);
+//  - at the default budget 0.02, of the cases where some setting meets the budget, auto's choice
+//    meets it on at least 80% (measured: 31 of 34). Cases no setting can meet are counted apart: there
+//    auto takes the most accurate setting it predicts, and says so.
+TEST(AutoCalibration, ASubsetPredictsTheRest) {
+    const Calibration cal = loadCalibration(projectRoot() + "/assets/calibration/default.json");
+    ASSERT_GE(cal.cases.size(), 20u);
+    size_t pairs = 0, under = 0, feasible = 0, overBudget = 0, infeasible = 0;
+    const AutoBudget b;
+    for (const CalibrationCase& held : cal.cases) {
+        if (held.features.point) continue;
+        Calibration rest = cal;
+        rest.cases.clear();
+        for (const CalibrationCase& c : cal.cases)
+            if (c.scene != held.scene) rest.cases.push_back(c);
+        bool meetable = false;
+        for (size_t s = 0; s < cal.settings.size(); ++s) {
+            const Prediction p = predictSetting(rest, s, held.features, false, held.width * held.height, 1.0);
+            ++pairs;
+            if (p.error + 0.01 < held.results[s].rmse) ++under;
+            meetable |= held.results[s].rmse <= b.error;
+        }
+        if (!meetable) {
+            ++infeasible;
+            continue;
+        }
+        const TechniqueChoice c = chooseTechnique(rest, held.features, b, held.width * held.height, 1.0);
+        ASSERT_NE(c.desc, nullptr) << held.scene;
+        const std::string chosen = c.report["technique"].get<std::string>() + " " + c.report["setting"].get<std::string>();
+        for (size_t s = 0; s < cal.settings.size(); ++s)
+            if (cal.settings[s].describe() == chosen) {
+                ++feasible;
+                overBudget += held.results[s].rmse > b.error;
+            }
+    }
+    ASSERT_GT(pairs, 0u);
+    ASSERT_GT(feasible, 0u);
+    EXPECT_LE(double(under), 0.30 * double(pairs)) << under << " of " << pairs << " predictions under the measured error by > 0.01";
+    EXPECT_LE(double(overBudget), 0.20 * double(feasible)) << overBudget << " of " << feasible << " choices over the 0.02 budget";
+    std::printf("[ calibration ] left-one-scene-out: %zu of %zu predictions under by > 0.01; %zu of %zu choices over the "
+                "0.02 budget where a setting meets it; %zu cases where none does\n",
+                under, pairs, overBudget, feasible, infeasible);
+}
+
+// ---- generated scenes -------------------------------------------------------------------------------
+TEST(RandomScene, TheSameSeedGivesTheSameScene) {
+    const Scene a = loadScene("random:42"), b = loadScene("random:42"), c = loadScene("random:43");
+    ASSERT_EQ(a.objects.size(), b.objects.size());
+    EXPECT_EQ(a.lights[0].position, b.lights[0].position);
+    EXPECT_EQ(a.camera.position, b.camera.position);
+    EXPECT_EQ(a.objects.back().mesh.positions, b.objects.back().mesh.positions);
+    EXPECT_NE(a.camera.position, c.camera.position);
+    EXPECT_GE(a.objects.size(), 2u);
+    EXPECT_NEAR(glm::length(a.lights[0].direction), 1.0f, 1e-5f);
+    EXPECT_NEAR(glm::dot(a.lights[0].direction, a.lights[0].up), 0.0f, 1e-5f);
+    for (const char* bad : {"random:", "random:x", "random:-1", "random:12345678901234567890"})
+        EXPECT_THROW(loadScene(bad), InputError) << bad;
+}
+
+// ---- renders ------------------------------------------------------------------------------------------
+class AutoRender : public testing::GLTest {};
+
+std::vector<std::string> passesThatRan(const nlohmann::json& stats) {
+    std::vector<std::string> out;
+    for (const auto& p : stats["passes"])
+        if (p["runs"].get<int>() > 0) out.push_back(p["name"].get<std::string>());
+    return out;
+}
+
+TEST_F(AutoRender, APointLightAndASubPixelPenumbraRunHardsPassesOnly) {
+    const Scene scene = loadScene("square-occluder");
+    const std::vector<std::string> hardOnly = {"gbuffer", "L0/hard/shadow_map", "L0/hard/visibility", "shade"};
+    for (float size : {0.0f, 0.001f}) {
+        RenderOptions o;
+        o.width = o.height = 128;
+        o.technique = "auto";
+        o.lightSize = size;
+        Renderer r(scene, o);
+        r.renderFrame(0, {"visibility"});
+        const nlohmann::json stats = r.stats({}, 0);
+        EXPECT_EQ(passesThatRan(stats), hardOnly) << "light size " << size;
+        const nlohmann::json& light = stats["lights"][0];
+        EXPECT_EQ(light["technique_requested"], "auto");
+        EXPECT_EQ(light["technique"], "hard");
+        EXPECT_EQ(light["auto"]["rule"], size == 0.0f ? "point light" : "penumbra under a pixel") << light["auto"].dump(1);
+    }
+}
+
+TEST_F(AutoRender, NoVisibleShadowRunsNoShadowPassAndLeavesTheLightUnshadowed) {
+    Scene scene = loadScene("square-occluder");
+    scene.camera.target = scene.camera.position + (scene.camera.position - scene.camera.target);
+    RenderOptions o;
+    o.width = o.height = 64;
+    o.technique = "auto";
+    Renderer r(scene, o);
+    r.renderFrame(0, {"visibility"});
+    const nlohmann::json stats = r.stats({}, 0);
+    EXPECT_EQ(passesThatRan(stats), (std::vector<std::string>{"gbuffer", "shade"}));
+    EXPECT_EQ(stats["lights"][0]["auto"]["rule"], "no visible shadow");
+}
+
+TEST_F(AutoRender, TheBudgetChangesTheChoiceLiveAndSaysWhy) {
+    const Scene scene = loadScene("square-occluder");
+    RenderOptions o;
+    o.width = o.height = 128;
+    o.technique = "auto";
+    o.sets = {{"error_budget", "0.5"}};
+    Renderer r(scene, o);
+    r.renderFrame(0, {"visibility"});
+    const std::string loose = r.lights()[0]->desc->id;
+    EXPECT_EQ(r.lights()[0]->choice["rule"], "calibration");
+    EXPECT_FALSE(r.lights()[0]->choice["why"].get<std::string>().empty());
+    // Within 0.5 every setting fits: the cheapest is a hard-shadow one.
+    EXPECT_TRUE(loose == "hard" || loose == "spsm" || loose == "pcf") << loose;
+    r.setParam("error_budget", "0.002");
+    r.renderFrame(1, {"visibility"});
+    const std::string tight = r.lights()[0]->desc->id;
+    EXPECT_NE(tight, loose);
+    const nlohmann::json stats = r.stats({}, 0);
+    bool ranTight = false;
+    for (const std::string& p : passesThatRan(stats)) ranTight |= p.rfind("L0/" + tight + "/", 0) == 0;
+    EXPECT_TRUE(ranTight);
+}
+
+}  // namespace
+}  // namespace shadowlab
