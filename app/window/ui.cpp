@@ -334,6 +334,27 @@ void Window::drawUi() {
                 tooltip("Renderer::stats(): median of each needed pass's runs; shadow = the technique's passes, fixed = "
                         "G-buffer and shading");
             }
+            // `auto`: each light's pick, its rule and prediction, and why (the tooltip); with the
+            // complete reference, the measured error beside the predicted one (issue 25).
+            for (const auto& light : statsValid_ ? stats_.value("lights", nlohmann::json::array()) : nlohmann::json::array()) {
+                if (!light.contains("auto")) continue;
+                const nlohmann::json& a = light["auto"];
+                std::string text = "L" + std::to_string(light.value("index", 0)) + " auto: " + a.value("technique", std::string()) +
+                                   " " + a.value("setting", std::string()) + "  (" + a.value("rule", std::string()) + ")";
+                ImGui::TextColored(ImVec4(0.55f, 0.85f, 1.0f, 1.0f), "%s", text.c_str());
+                tooltip(a.value("why", std::string()).c_str());
+                if (a.contains("predicted")) {
+                    char line[160];
+                    std::snprintf(line, sizeof line, "   predicted RMSE %.4f in %.1f ms (budget %.4f)",
+                                  a["predicted"].value("error", 0.0), a["predicted"].value("ms", 0.0),
+                                  a["budget"].value("error", 0.0));
+                    ImGui::Text("%s", line);
+                    if (currentMetrics && stats_.value("lights", nlohmann::json::array()).size() == 1) {
+                        ImGui::SameLine();
+                        ImGui::Text("  measured %.4f", metricsAll_->rmse);
+                    }
+                }
+            }
             // Clamped kernels said: a capped kernel that truncated penumbrae (over 1% of its pixels in
             // orange), from the same stats as --stats (kernel_caps).
             for (const auto& light : statsValid_ ? stats_.value("lights", nlohmann::json::array()) : nlohmann::json::array()) {

@@ -12,6 +12,7 @@
 
 #include "graph/technique.h"
 #include "image/image.h"
+#include "image/metrics.h"
 #include "scene/scene.h"
 #include "support/cli_run.h"
 #include "window/window.h"
@@ -358,6 +359,27 @@ TEST(Window, MemoryIsEstimatedBeforeTheWindowOpensAndOnEveryChange) {
     EXPECT_NE(r.output.find("hard with these parameters would need about"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("over the limit of 200 MB (--max-memory-mb N raises it): not applied"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("ssm-gbp06 with these parameters would need about"), std::string::npos) << r.output;
+}
+
+// `auto` in the window (issue 25): the budget slider (a `param` like any other) changes each light's
+// pick live, without restarting anything, and the visibility shown is the headless render's at the
+// same budget and size.
+TEST(Window, TheAutoBudgetChangesTheChoiceLive) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    std::ofstream(tmp("auto.txt")) << "technique auto\nparam error_budget 0.5\nwait 1\nsave-visibility " << tmp("auto-loose.pfm")
+                                   << "\nparam error_budget 0.002\nwait 1\nsave-visibility " << tmp("auto-tight.pfm")
+                                   << "\nscreenshot " << tmp("auto.png") << "\n";
+    auto r = runXvfb("window --scene square-occluder --technique hard --size 640x480 --script " + tmp("auto.txt"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    const Image loose = shadowlab::readPFM(tmp("auto-loose.pfm")), tight = shadowlab::readPFM(tmp("auto-tight.pfm"));
+    ASSERT_EQ(loose.width, tight.width);
+    // 0.5 takes a hard-shadow setting, 0.002 the most accurate: the penumbra differs.
+    EXPECT_GT(shadowlab::computeMetrics(loose, tight).rmse, 0.02);
+    const std::string size = std::to_string(tight.width) + "x" + std::to_string(tight.height);
+    auto c = run("render --scene square-occluder --technique auto --set error_budget=0.002 --size " + size + " --visibility " +
+                 tmp("auto-cli.pfm"));
+    ASSERT_EQ(c.code, 0) << c.output;
+    EXPECT_LT(shadowlab::computeMetrics(tight, shadowlab::readPFM(tmp("auto-cli.pfm"))).rmse, 0.002);
 }
 
 // `shadowlab` with no arguments and no display renders the default scene headless into
