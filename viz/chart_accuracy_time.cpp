@@ -334,12 +334,12 @@ public:
 vtkStandardNewMacro(AccuracyTimeMarks);
 
 // Colours of the techniques' series: Okabe-Ito (readable by colour-blind readers and in print)
-// and three darker hues, in registry order; the two references are greys (ground truth, not a
-// contender), so they never take a colour from a technique.
-constexpr int kColourCount = 10;
+// and four darker hues, in registry order (the eleventh, violet, is `auto`'s); the two references
+// are greys (ground truth, not a contender), so they never take a colour from a technique.
+constexpr int kColourCount = 11;
 const unsigned char kColours[kColourCount][3] = {{0, 114, 178},  {213, 94, 0},   {0, 158, 115},  {204, 121, 167},
                                                  {230, 159, 0},  {86, 180, 233}, {240, 228, 66}, {0, 60, 130},
-                                                 {140, 80, 20},  {110, 130, 0}};
+                                                 {140, 80, 20},  {110, 130, 0},  {120, 0, 160}};
 const unsigned char kReferenceGrey[3] = {70, 70, 70};
 const unsigned char kRaytracedGrey[3] = {150, 150, 150};
 
@@ -459,9 +459,14 @@ vtkSmartPointer<vtkChartXY> buildAccuracyTimeChart(const AccuracyTimePanel& pane
     }
     xAxis->SetLogScale(logX);
     yAxis->SetLogScale(logY);
-    // Room around the points (and for the labels to the right of the last one).
-    if (logX) xAxis->SetUnscaledRange(tLo / 1.6, tHi * 3.0);
-    else xAxis->SetUnscaledRange(std::max(0.0, tLo - 0.1 * (tHi - tLo) - 1e-3), tHi + 0.35 * (tHi - tLo) + 1e-3);
+    // Room around the points (and for the labels to the right of the last one). With many series the
+    // legend (top right, about a third of the plot's width) would cover the slowest points: the axis
+    // then runs on until the points fill at most the left 68% of it.
+    const double legendRoom = series.size() > 4 ? 1.0 / 0.68 : 1.0;
+    if (logX) xAxis->SetUnscaledRange(tLo / 1.6, std::max(tHi * 3.0, tLo / 1.6 * std::pow(1.6 * tHi / tLo, legendRoom)));
+    else
+        xAxis->SetUnscaledRange(std::max(0.0, tLo - 0.1 * (tHi - tLo) - 1e-3),
+                                tHi + std::max(0.35, legendRoom - 1.0) * (tHi - tLo) + 1e-3);
     if (logY) yAxis->SetUnscaledRange(eFloor / 1.5, eHi * 2.0);
     else yAxis->SetUnscaledRange(0.0, eHi * 1.15 + 1e-6);
     marks->xAxis = xAxis;

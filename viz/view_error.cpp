@@ -87,7 +87,12 @@ void build(ViewContext& ctx, ViewResult& result) {
     }
     auto image = toImageData(errors, {"signed_error", "abs_error", "visibility", "reference"});
 
-    result.caption = "error  " + ctx.light().desc->id + " against " +
+    // A choosing technique (`auto`) names its pick for this light beside its own id.
+    const LightState& light = ctx.light();
+    const std::string runs = light.requested && light.requested != light.desc
+                                 ? light.requested->id + " (" + light.desc->id + " on light " + std::to_string(light.index) + ")"
+                                 : light.desc->id;
+    result.caption = "error  " + runs + " against " +
                      (ctx.request.reference ? std::string("the given reference")
                                              : "`reference` (" + (ctx.request.referenceSamples > 0
                                                                       ? std::to_string(ctx.request.referenceSamples)

@@ -113,7 +113,7 @@ int commandCalibrate(const std::vector<std::string>& args) {
     plan.check();
 
     // The scenes: every scene of assets/ but `complex` (1.2 million triangles: minutes per case),
-    // and --random N generated ones (seeds 1000 ..).
+    // and --random N generated ones (seeds 1000 ..; 40 by default).
     std::vector<std::string> names;
     if (opts.has("--scenes")) {
         names = splitList(opts.get("--scenes"));
@@ -122,7 +122,7 @@ int commandCalibrate(const std::vector<std::string>& args) {
         for (const std::string& s : listScenes())
             if (s != "complex") names.push_back(s);
     }
-    const int randoms = opts.getInt("--random", 6, 0, 1000);
+    const int randoms = opts.getInt("--random", 40, 0, 1000);
     for (int i = 0; i < randoms; ++i) names.push_back("random:" + std::to_string(1000 + i));
     std::vector<Scene> scenes;
     for (const std::string& n : names) {

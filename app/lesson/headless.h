@@ -12,6 +12,7 @@
 #include "image/image.h"
 #include "error.h"
 #include "lesson/host.h"
+#include "chart_accuracy_time.h"
 
 namespace shadowlab {
 
@@ -46,6 +47,11 @@ public:
     std::optional<glm::ivec2> pickedPixel() const;
     const std::optional<LessonPick>& pick() const { return pick_; }
     const Camera& camera() const { return camera_; }
+    const std::vector<Light>& lights() const { return lights_; }
+    const std::string& sceneName() const { return sceneName_; }
+    // The technique every light asks for and the parameters the step set (text as the lesson gave it).
+    const std::string& techniqueId() const { return main_.technique; }
+    const std::vector<std::pair<std::string, std::string>>& techniqueParams() const { return main_.params; }
     int width() const { return width_; }
     int height() const { return height_; }
 
@@ -72,6 +78,13 @@ private:
     std::unique_ptr<RendererLessonHost> variant_;  // renders an expectation's variants
     std::optional<LessonState> variantState_;      // the variant it shows
 };
+
+// The "accuracy-time" view's points: the step's scene, lights and camera at the host's size, each
+// setting `auto` chooses among (the default calibration's, every technique at its defaults) and
+// `auto` itself at the step's parameters and at the error budgets 0.005, 0.02 and 0.1, each placed by
+// its shadow_ms (every pass run every frame, median of `frames` after one warm-up) and its RMSE
+// against the step's reference. The step's own setting is highlighted. Needs a current GL context.
+std::vector<AccuracyTimePoint> lessonAccuracyPoints(RendererLessonHost& host, int frames = 2);
 
 // The internals named (the keys of Renderer::writeInternals: "kernel_size", "light1/kernel_size")
 // of the renderer's last frame, which must have requested them; a pyramid's level 0. An internal

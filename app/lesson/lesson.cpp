@@ -236,7 +236,7 @@ const std::vector<std::string>& lessonViews() {
     // Each is rendered by renderLessonView() (app/lesson/step_views.cpp): the two visibility buffers,
     // the shadow map texel by texel around the casters, and every view of viz/ (listViews()).
     static const std::vector<std::string> views = [] {
-        std::vector<std::string> v = {"visibility", "reference", "shadow-map-texels"};
+        std::vector<std::string> v = {"visibility", "reference", "shadow-map-texels", "accuracy-time"};
         for (const ViewInfo& info : listViews()) v.push_back(info.name);
         return v;
     }();

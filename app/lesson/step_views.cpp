@@ -4,11 +4,19 @@
 #include <cmath>
 #include <map>
 
+#include "auto/auto.h"
+#include "bench/bench.h"
 #include "error.h"
+#include "vtk_offscreen.h"
 #include "gl/texture.h"
 #include "image/metrics.h"
 #include "lesson/headless.h"
 #include "views.h"
+
+#include <vtkContextScene.h>
+#include <vtkContextView.h>
+#include <vtkNew.h>
+#include <vtkRenderer.h>
 
 namespace shadowlab {
 
@@ -80,7 +88,76 @@ void markPixel(Image& img, glm::ivec2 p) {
         }
 }
 
+// The step's setting as the chart labels it: its parameters as the lesson set them, or "defaults".
+std::string stepLabel(const std::vector<std::pair<std::string, std::string>>& params) {
+    std::string label;
+    for (const auto& [k, v] : params) label += (label.empty() ? "" : " ") + k + "=" + v;
+    return label.empty() ? "defaults" : label;
+}
+
+Image accuracyTimeView(RendererLessonHost& host) {
+    AccuracyTimePanel panel{host.sceneName() + ": RMSE against the step's reference, " + std::to_string(host.width()) +
+                                "x" + std::to_string(host.height()),
+                            lessonAccuracyPoints(host)};
+    const int width = std::max(host.width(), 960), height = width * 5 / 8;
+    AccuracyTimeStyle style;
+    style.panelHeight = height;
+    VtkOffscreen out(width, height);
+    vtkNew<vtkContextView> view;
+    out.attach(view);
+    view->GetRenderer()->SetBackground(1.0, 1.0, 1.0);
+    view->GetScene()->AddItem(buildAccuracyTimeChart(panel, style));
+    Image rgba = out.render();
+    Image rgb(rgba.width, rgba.height, 3);
+    for (size_t i = 0; i < rgba.pixelCount(); ++i)
+        for (int c = 0; c < 3; ++c) rgb.data[i * 3 + c] = rgba.data[i * rgba.channels + c];
+    return rgb;
+}
+
 }  // namespace
+
+std::vector<AccuracyTimePoint> lessonAccuracyPoints(RendererLessonHost& host, int frames) {
+    Scene scene = host.scene();
+    scene.lights = host.lights();
+    scene.camera = host.camera();
+    const Image reference = host.reference().visibility();
+    const bool cpuClock = std::string(host.technique().clockName()) == "cpu-finish";
+    std::vector<AccuracyTimePoint> points;
+    auto place = [&](const std::string& technique, const std::vector<std::pair<std::string, std::string>>& sets,
+                     const std::string& label, bool highlight) {
+        const Measurement m = measureSetting(scene, host.sceneName(), host.width(), host.height(), std::nullopt,
+                                             Setting{technique, sets}, frames, 1, &reference, cpuClock);
+        points.push_back({technique, label, m.shadowMs, m.all.rmse, highlight});
+    };
+    // What auto chooses among, each at the setting the calibration measured.
+    for (const CalibrationSetting& s : defaultCalibration().settings)
+        place(s.technique, s.sets, s.sets.empty() ? "defaults" : s.describe(), false);
+    // auto at a few budgets, and at the step's own setting (ringed) when it is auto's.
+    const bool stepIsAuto = host.techniqueId() == "auto";
+    const auto& stepParams = host.techniqueParams();
+    double stepBudget = NAN;  // the step's budget when its other parameters are at their defaults
+    if (stepIsAuto) {
+        const TechniqueDesc& desc = autoTechnique();
+        ParamValues values(desc);
+        for (const auto& [k, v] : stepParams) values.set(desc, k, v, "lesson");
+        bool defaults = true;
+        for (const ParamDesc& p : desc.params)
+            if (p.key != "error_budget") defaults = defaults && values.get(p.key) == p.defaultValue;
+        if (defaults) stepBudget = values.get("error_budget");
+    }
+    bool stepPlaced = false;
+    for (const char* budget : {"0.005", "0.02", "0.1"}) {
+        std::vector<std::pair<std::string, std::string>> sets = {{"error_budget", budget}};
+        const bool isStep = std::abs(std::stod(budget) - stepBudget) < 1e-9;
+        stepPlaced |= isStep;
+        place("auto", sets, std::string("budget ") + budget, isStep);
+    }
+    if (stepIsAuto && !stepPlaced) place("auto", host.techniqueParams(), stepLabel(host.techniqueParams()), true);
+    if (!stepIsAuto)
+        for (AccuracyTimePoint& p : points)
+            p.highlight = p.series == host.techniqueId() && host.techniqueParams().empty() && p.label == "defaults";
+    return points;
+}
 
 Image renderLessonView(RendererLessonHost& host, const std::string& view) {
     if (view == "technique") {
@@ -99,6 +176,7 @@ Image renderLessonView(RendererLessonHost& host, const std::string& view) {
     if (view == "visibility") return grey(host.technique().visibility());
     if (view == "reference") return grey(host.reference().visibility());
     if (view == "shadow-map-texels") return shadowMapView(host.technique(), host.width(), host.height());
+    if (view == "accuracy-time") return accuracyTimeView(host);
     // The VTK views (viz/): the picked pixel, and the lesson's reference for the error view.
     ViewRequest request;
     request.view = view;

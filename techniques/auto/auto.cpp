@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <map>
@@ -14,6 +15,7 @@
 #include "error.h"
 #include "scene/json_reader.h"
 #include "scene/light_view.h"
+#include "visibility/raytracer.h"
 
 namespace shadowlab {
 
@@ -53,6 +55,112 @@ Bounds intersect(const Bounds& a, const Bounds& b) {
     return out;
 }
 
+// Points spread over the receivers inside `region`, each with its normal and the area it stands
+// for, and the light's visibility there: what the penumbra fraction is made of. It depends on the
+// scene, the light and the time only, so the camera's moves reuse it (the window asks on every move).
+struct ShadowSamples {
+    std::vector<glm::vec3> position, normal;
+    std::vector<float> area, visibility;
+};
+
+uint64_t mix(uint64_t h, uint64_t v) { return (h ^ v) * 0x100000001B3ull; }
+uint64_t mixFloat(uint64_t h, float f) {
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    return mix(h, bits);
+}
+
+const ShadowSamples& shadowSamples(const Scene& scene, const Light& light, const Bounds& region, double t) {
+    // The key: the scene (its address, object count and each object's triangle count, first vertex
+    // and transform), the light, the region and the time.
+    uint64_t key = mix(0xcbf29ce484222325ull, uint64_t(reinterpret_cast<uintptr_t>(&scene)));
+    key = mix(key, uint64_t(t * 1e6));
+    for (const Object& o : scene.objects) {
+        key = mix(key, o.mesh.triangleCount());
+        if (!o.mesh.positions.empty())
+            for (int c = 0; c < 3; ++c) key = mixFloat(key, o.mesh.positions[0][c]);
+        const glm::mat4 m = o.worldFromObjectAt(t);
+        for (int i = 0; i < 4; ++i)
+            for (int c = 0; c < 4; ++c) key = mixFloat(key, m[i][c]);
+        key = mix(key, uint64_t(o.castsShadows) * 2 + uint64_t(o.receivesShadows));
+    }
+    for (int c = 0; c < 3; ++c) {
+        key = mixFloat(key, light.position[c]);
+        key = mixFloat(key, light.direction[c]);
+        key = mixFloat(key, light.up[c]);
+        key = mixFloat(key, region.lo[c]);
+        key = mixFloat(key, region.hi[c]);
+    }
+    key = mixFloat(key, light.size);
+    key = mix(key, uint64_t(light.shape));
+    static std::mutex mutex;
+    static std::map<uint64_t, ShadowSamples> cache;
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = cache.find(key); it != cache.end()) return it->second;
+    if (cache.size() > 64) cache.clear();
+
+    // Candidates spread over the receivers' triangles that touch the region, by area, with a fixed
+    // sequence (R2 low-discrepancy pairs: the same points every time); those inside the region kept.
+    struct Tri {
+        glm::vec3 a, b, c, n;
+        double area;
+    };
+    std::vector<Tri> tris;
+    double total = 0.0;
+    for (const Object& o : scene.objects) {
+        if (!o.receivesShadows) continue;
+        const glm::mat4 m = o.worldFromObjectAt(t);
+        for (size_t i = 0; i + 2 < o.mesh.indices.size(); i += 3) {
+            Tri tr;
+            tr.a = glm::vec3(m * glm::vec4(o.mesh.positions[o.mesh.indices[i]], 1.0f));
+            tr.b = glm::vec3(m * glm::vec4(o.mesh.positions[o.mesh.indices[i + 1]], 1.0f));
+            tr.c = glm::vec3(m * glm::vec4(o.mesh.positions[o.mesh.indices[i + 2]], 1.0f));
+            const glm::vec3 lo = glm::min(tr.a, glm::min(tr.b, tr.c)), hi = glm::max(tr.a, glm::max(tr.b, tr.c));
+            if (glm::any(glm::lessThan(hi, region.lo)) || glm::any(glm::greaterThan(lo, region.hi))) continue;
+            const glm::vec3 cr = glm::cross(tr.b - tr.a, tr.c - tr.a);
+            tr.area = 0.5 * double(glm::length(cr));
+            if (!(tr.area > 0.0)) continue;
+            tr.n = glm::normalize(cr);
+            total += tr.area;
+            tris.push_back(tr);
+        }
+    }
+    ShadowSamples out;
+    if (tris.empty()) return cache.emplace(key, std::move(out)).first->second;
+    constexpr int kCandidates = 24000;
+    const float perSample = float(total / kCandidates);
+    double carry = 0.0;
+    uint64_t k = 0;
+    for (const Tri& tr : tris) {
+        carry += tr.area / total * kCandidates;
+        for (; carry >= 1.0; carry -= 1.0, ++k) {
+            // R2 sequence (Roberts 2018) folded into the triangle.
+            double u = std::fmod(0.5 + 0.7548776662466927 * double(k), 1.0);
+            double v = std::fmod(0.5 + 0.5698402909980532 * double(k), 1.0);
+            if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+            const glm::vec3 p = tr.a + float(u) * (tr.b - tr.a) + float(v) * (tr.c - tr.a);
+            if (glm::any(glm::lessThan(p, region.lo)) || glm::any(glm::greaterThan(p, region.hi))) continue;
+            out.position.push_back(p);
+            out.normal.push_back(tr.n);
+            out.area.push_back(perSample);
+        }
+    }
+    if (!out.position.empty()) {
+        const int n = int(out.position.size());
+        Image positions(n, 1, 3), normals(n, 1, 3);
+        for (int i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c) {
+                positions.at(i, 0, c) = out.position[size_t(i)][c];
+                normals.at(i, 0, c) = out.normal[size_t(i)][c];
+            }
+        RayTracer tracer(scene, t);
+        tracer.setThreadCount(1);  // a few thousand points: threads would cost more than they save
+        const Image v = tracer.visibility(positions, normals, light, 16);
+        out.visibility.assign(v.data.begin(), v.data.end());
+    }
+    return cache.emplace(key, std::move(out)).first->second;
+}
+
 }  // namespace
 
 // ---- features -------------------------------------------------------------------------------------------
@@ -65,11 +173,12 @@ nlohmann::json LightFeatures::toJson() const {
             {"penumbra_pixels", penumbraPixels},
             {"penumbra_texels", penumbraTexels},
             {"caster_triangles", casterTriangles},
+            {"penumbra_fraction", penumbraFraction},
             {"shadow_on_screen", shadowOnScreen}};
 }
 
 LightFeatures measureLightFeatures(const Scene& scene, const Light& light, const Camera& camera, int width,
-                                   int height, double t) {
+                                   int height, double t, const std::vector<Light>& all) {
     LightFeatures f;
     f.point = light.isPoint();
     f.lightExtent = f.point ? 0.0
@@ -152,11 +261,50 @@ LightFeatures measureLightFeatures(const Scene& scene, const Light& light, const
     const double focalPixels = double(height) / (2.0 * std::tan(glm::radians(double(camera.fovYDegrees)) * 0.5));
     f.penumbraPixels = f.penumbraWorld * focalPixels / eye;
 
+    // The penumbra's share of the frame: the sampled points in penumbra (0 < v < 1), each weighted by
+    // the pixels its patch covers, area x cos / distance^2 x focal^2, when it lies in the frustum and
+    // faces the camera.
+    if (f.shadowOnScreen && !f.point) {
+        const ShadowSamples& samples = shadowSamples(scene, light, region, t);
+        double pixels = 0.0, share2 = 0.0;
+        size_t inPenumbra = 0;
+        auto irradiance = [](const Light& l, const glm::vec3& p, const glm::vec3& n) {  // shade.frag's E_l
+            const glm::vec3 radiance = l.color * l.intensity;
+            return std::max(0.0, double(glm::dot(n, glm::normalize(l.position - p)))) *
+                   double(radiance.r + radiance.g + radiance.b) / 3.0;
+        };
+        for (size_t i = 0; i < samples.position.size(); ++i) {
+            const float v = samples.visibility[i];
+            if (!(v > 0.0f && v < 1.0f)) continue;
+            if (all.size() > 1) {
+                double sum = 0.0;
+                for (const Light& l : all) sum += irradiance(l, samples.position[i], samples.normal[i]);
+                const double w = sum > 0.0 ? irradiance(light, samples.position[i], samples.normal[i]) / sum : 1.0;
+                share2 += w * w;
+                ++inPenumbra;
+            }
+            const glm::vec4 q = clip * glm::vec4(samples.position[i], 1.0f);
+            if (q.w <= 0.0f || std::abs(q.x) > q.w || std::abs(q.y) > q.w) continue;
+            const glm::vec3 toCamera = camera.position - samples.position[i];
+            const double d2 = double(glm::dot(toCamera, toCamera));
+            const double cosine = double(glm::dot(samples.normal[i], toCamera)) / std::sqrt(d2);
+            if (cosine <= 0.0) continue;
+            pixels += double(samples.area[i]) * cosine / d2 * focalPixels * focalPixels;
+        }
+        f.penumbraFraction = std::min(1.0, pixels / (double(width) * double(height)));
+        if (inPenumbra > 0) f.share = std::sqrt(share2 / double(inPenumbra));
+    }
+
     // From the light's centre the penumbra at depth z_r spans the angle w_p / z_r; a texel of a
     // 1024^2 map fitted to the scene spans 2 tan(half fov) / 1024.
     const LightView lv = fitLightView(light, light.position, scene.bounds(t));
     f.penumbraTexels = far > 0.0 ? (f.penumbraWorld / far) / (2.0 * double(lv.tanHalfFov) / 1024.0) : 0.0;
     return f;
+}
+
+double lightBudget(double frameBudget, const LightFeatures& light, int lightsByCalibration) {
+    const double share = std::max(light.share, 1e-3);
+    return std::min(1.0, frameBudget / (double(std::max(lightsByCalibration, 1)) * share));
 }
 
 // ---- calibration ------------------------------------------------------------------------------------------
@@ -256,7 +404,7 @@ Calibration loadCalibration(const std::string& path) {
         c.height = int(r.integer(size[1], elementPath(fieldPath(p, "size"), 1), 1, 8192));
         const JsonFields ff = f.object("features", {"point", "light_extent", "caster_near", "receiver_far", "penumbra_world",
                                                     "penumbra_pixels", "penumbra_texels", "caster_triangles",
-                                                    "shadow_on_screen"});
+                                                    "penumbra_fraction", "shadow_on_screen"});
         c.features.point = ff.boolean("point");
         c.features.lightExtent = ff.number("light_extent", atLeast(0.0));
         c.features.casterNear = ff.number("caster_near", atLeast(0.0));
@@ -265,6 +413,7 @@ Calibration loadCalibration(const std::string& path) {
         c.features.penumbraPixels = ff.number("penumbra_pixels", atLeast(0.0));
         c.features.penumbraTexels = ff.number("penumbra_texels", atLeast(0.0));
         c.features.casterTriangles = ff.number("caster_triangles", atLeast(0.0));
+        c.features.penumbraFraction = ff.number("penumbra_fraction", inRange(0.0, 1.0));
         c.features.shadowOnScreen = ff.boolean("shadow_on_screen");
         const nlohmann::json& results = f.require("results", "an array of results, one per setting");
         if (!results.is_array() || results.size() != cal.settings.size())
@@ -339,15 +488,21 @@ Prediction predictSetting(const Calibration& cal, size_t setting, const LightFea
         p.distance = std::numeric_limits<double>::infinity();
         return p;
     }
-    const size_t k = std::min<size_t>(2, order.size());
+    const size_t k = std::min<size_t>(kNeighbours, order.size());
     p.distance = order[0].first;
     std::vector<double> ms;
     for (size_t n = 0; n < k; ++n) {
         const CalibrationCase& c = cal.cases[order[n].second];
         const CalibrationResult& r = c.results.at(setting);
-        p.error = std::max(p.error, penumbraBudget ? r.rmsePenumbra : r.rmse);
-        const double scale = double(pixels) / double(std::max(1, c.width * c.height));
-        ms.push_back((r.fixedMs + r.frameMs * scale) * machineScale);
+        // The image's RMSE is the penumbra's spread over the image: sqrt(fraction) x the penumbra's
+        // (most of every technique's error lies in the penumbra), so a case's RMSE is scaled by the
+        // square root of the two penumbra fractions' ratio (at most 4x either way).
+        double scale = 1.0;
+        if (!penumbraBudget && features.penumbraFraction > 0.0 && c.features.penumbraFraction > 0.0)
+            scale = std::sqrt(std::clamp(features.penumbraFraction / c.features.penumbraFraction, 1.0 / 16.0, 16.0));
+        p.error = std::max(p.error, std::min(1.0, (penumbraBudget ? r.rmsePenumbra : r.rmse) * scale));
+        const double pixelScale = double(pixels) / double(std::max(1, c.width * c.height));
+        ms.push_back((r.fixedMs + r.frameMs * pixelScale) * machineScale);
         p.nearest.push_back(c.scene + " light " + fmt("%g", c.lightSize));
     }
     p.ms = *std::max_element(ms.begin(), ms.end());
@@ -359,6 +514,10 @@ TechniqueChoice chooseTechnique(const Calibration& cal, const LightFeatures& fea
     TechniqueChoice choice;
     const std::string metric = budget.penumbra ? "penumbra RMSE" : "RMSE";
     choice.report["budget"] = {{"error", budget.error}, {"on", budget.penumbra ? "penumbra" : "all"}};
+    if (budget.frameError > 0.0 && budget.frameError != budget.error)
+        choice.report["budget"]["shared"] = {{"frame_error", budget.frameError},
+                                             {"lights", budget.sharedBy},
+                                             {"share", features.share}};
     if (budget.timeMs > 0.0) choice.report["budget"]["time_ms"] = budget.timeMs;
     choice.report["features"] = features.toJson();
     auto pick = [&](const TechniqueDesc* desc, const std::vector<std::pair<std::string, std::string>>& sets) {
@@ -444,9 +603,16 @@ TechniqueChoice chooseTechnique(const Calibration& cal, const LightFeatures& fea
     choice.report["alternatives"] = alternatives;
     choice.report["calibration"] = {{"file", cal.file}, {"cases", cal.cases.size()}, {"machine_scale", machineScale}};
     const std::string what = chosen.describe();
+    // How a shared budget came about: "0.0357 = 0.02 / (1 light x share 0.56)".
+    const std::string shared = budget.frameError > 0.0 && budget.frameError != budget.error
+                                   ? " = " + fmt("%.4g", budget.frameError) + " / (" + std::to_string(budget.sharedBy) +
+                                         (budget.sharedBy == 1 ? " light" : " lights") + " x share " +
+                                         fmt("%.2f", features.share) + " of v)"
+                                   : "";
     if (rule == "calibration")
         choice.report["why"] = what + ": the cheapest setting predicted within the budget (" + metric + " " +
-                               fmt("%.4f", p.error) + " <= " + fmt("%.4f", budget.error) + ", " + fmt("%.2f", p.ms) + " ms)";
+                               fmt("%.4f", p.error) + " <= " + fmt("%.4f", budget.error) + shared + ", " +
+                               fmt("%.2f", p.ms) + " ms)";
     else if (rule == "outside the calibration")
         choice.report["why"] = what + ": the light's features lie outside the calibration's range (distance " +
                                fmt("%.2f", p.distance) + "), so the most accurate setting" +
@@ -499,9 +665,19 @@ const TechniqueDesc& autoTechnique() {
                    "accurate setting within this one";
         d.params.push_back(time);
         d.choose = [](const ChoiceInputs& in) {
-            const LightFeatures f = measureLightFeatures(*in.scene, *in.light, *in.camera, in.width, in.height, in.time);
+            const LightFeatures f =
+                measureLightFeatures(*in.scene, *in.light, *in.camera, in.width, in.height, in.time, in.lights);
             AutoBudget b;
-            b.error = in.params->get("error_budget");
+            b.frameError = in.params->get("error_budget");
+            // The lights the facts do not decide share the frame's budget (lightBudget).
+            int byCalibration = 0;
+            for (const Light& l : in.lights) {
+                if (!l.castsShadows || l.isPoint()) continue;
+                const LightFeatures o = measureLightFeatures(*in.scene, l, *in.camera, in.width, in.height, in.time);
+                byCalibration += o.shadowOnScreen && o.penumbraPixels >= 1.0;
+            }
+            b.sharedBy = std::max(byCalibration, 1);
+            b.error = lightBudget(b.frameError, f, b.sharedBy);
             b.penumbra = in.params->getChoice("budget_on") == "penumbra";
             b.timeMs = in.params->get("time_budget_ms");
             // The facts need no calibration: a point light takes hard even without the file.

@@ -32,15 +32,31 @@ struct LightFeatures {
     double penumbraTexels = 0.0;  // the same penumbra seen from the light's centre, in texels of a
                                   // 1024^2 shadow map fitted to the scene
     double casterTriangles = 0.0;
+    // The share of the frame's pixels in this light's penumbra, estimated by ray-tracing the light
+    // (16 stratified rays) from points spread over the receivers where its shadows can fall, each
+    // weighted by the pixels its patch covers on screen (occlusion from the camera ignored: an upper
+    // estimate). What scales a technique's whole-image RMSE from its penumbra error.
+    double penumbraFraction = 0.0;
     bool shadowOnScreen = true;   // false: the region where this light's shadows can fall is outside
                                   // the camera's frustum (conservative: true when unsure)
+    // This light's weight in v over its penumbra, with `others` lights beside it (shade.frag: v =
+    // sum_l v_l E_l / sum_l E_l): the root mean square of E_l / sum_k E_k over the sampled points in
+    // its penumbra; 1 alone. Not a calibration feature: it shares the budget between lights.
+    double share = 1.0;
     nlohmann::json toJson() const;
 };
 // Conservative by construction: the nearest caster with the farthest receiver, and the shadow
 // region's nearest point to the camera, so the estimate is never smaller than the true largest
 // penumbra (up to the scene's bounds' looseness). At time t (objects posed as at t).
 LightFeatures measureLightFeatures(const Scene& scene, const Light& light, const Camera& camera, int width,
-                                   int height, double t = 0.0);
+                                   int height, double t = 0.0, const std::vector<Light>& all = {});
+
+// Each light's part of a frame's error budget (a light decided by the facts takes its whole budget,
+// it errs only by aliasing): with n lights left to the calibration, light l may err by
+// budget / (n share_l), so that sum_l share_l e_l <= budget bounds the RMSE of v (Minkowski's
+// inequality, with the shares over each light's penumbra standing in for the per-pixel weights).
+// At most 1.
+double lightBudget(double frameBudget, const LightFeatures& light, int lightsByCalibration);
 
 // ---- calibration -----------------------------------------------------------------------------------------
 struct CalibrationSetting {
@@ -80,8 +96,12 @@ const Calibration& defaultCalibration();
 double machineProbeMs();
 
 // ---- prediction and choice ---------------------------------------------------------------------------------
+// A setting's predicted error is the largest over this many nearest calibrated cases (chosen by
+// leaving each scene of a 147-case calibration out in turn: techniques/auto/README.md).
+constexpr size_t kNeighbours = 3;
 struct Prediction {
-    double error = 0.0;  // conservative: the largest error of the nearest calibrated cases
+    double error = 0.0;  // conservative: the largest error of the nearest calibrated cases, each scaled
+                         // by sqrt(penumbra fraction here / there)
     double ms = 0.0;     // shadow_ms at this frame size on this machine
     double distance = 0.0;  // to the nearest calibrated case in feature space
     std::vector<std::string> nearest;  // the cases it rests on ("plant light 2")
@@ -96,7 +116,9 @@ Prediction predictSetting(const Calibration& calibration, size_t setting, const 
 constexpr double kOutsideCalibration = 1.5;
 
 struct AutoBudget {
-    double error = 0.02;
+    double error = 0.02;       // this light's part (lightBudget)
+    double frameError = 0.0;   // the frame's budget it was shared from (0: the same as error)
+    int sharedBy = 1;          // the lights left to the calibration that share it
     bool penumbra = false;  // budget_on = penumbra
     double timeMs = 0.0;    // 0: none
 };

@@ -716,9 +716,40 @@ TEST(LessonHeadless, SoftShadowVolumesRendersEveryStepWithTasksCheckedBothWays) 
 TEST(LessonHeadless, AdaptivePrecisionRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("adaptive-precision"); }
 TEST(LessonHeadless, SubPixelShadowMapsRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("sub-pixel-shadow-maps"); }
 TEST(LessonHeadless, PenumbraVolumesRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("penumbra-volumes"); }
+TEST(LessonHeadless, WhatAccuracyCostsRendersEveryStepWithTasksCheckedBothWays) { renderHeadless("what-accuracy-costs"); }
+// what-accuracy-costs' last step claims that auto's point (its budget 0.02, ringed) sits on or near
+// the Pareto front of the chart: no setting on the chart is at least as accurate and more than 1.25
+// times faster (1.25: the issue's bound on auto's time against the cheapest setting within the
+// budget; the times are single runs on a shared machine). The same points the step's chart draws.
+class LessonChartTest : public shadowlab::testing::GLTest {};
+TEST_F(LessonChartTest, WhatAccuracyCostsPutsAutoOnOrNearTheParetoFront) {
+    RendererLessonHost host(320, 240);
+    LessonPlayer player(loadLesson("what-accuracy-costs"), host);
+    player.goTo(player.stepCount() - 1);
+    ASSERT_TRUE(host.views().count("accuracy-time"));
+    const std::vector<AccuracyTimePoint> points = lessonAccuracyPoints(host);
+    const AccuracyTimePoint* ringed = nullptr;
+    size_t autos = 0;
+    for (const AccuracyTimePoint& p : points) {
+        std::printf("[ chart ] %-12s %-14s %8.2f ms  RMSE %.4f%s\n", p.series.c_str(), p.label.c_str(), p.timeMs, p.error,
+                    p.highlight ? "  (ringed)" : "");
+        autos += p.series == "auto";
+        if (p.highlight) ringed = &p;
+    }
+    EXPECT_EQ(autos, 3u) << "auto at 0.005, 0.02 (the step's, ringed) and 0.1";
+    ASSERT_NE(ringed, nullptr);
+    EXPECT_EQ(ringed->series, "auto");
+    for (const AccuracyTimePoint& p : points)
+        if (p.series != "auto")
+            EXPECT_FALSE(p.error <= ringed->error && p.timeMs * 1.25 < ringed->timeMs)
+                << p.series << " " << p.label << " (" << p.timeMs << " ms, RMSE " << p.error << ") dominates auto ("
+                << ringed->timeMs << " ms, RMSE " << ringed->error << ")";
+}
+
 TEST(LessonHeadless, EveryLessonHasAHeadlessTest) {
     EXPECT_EQ(listLessons(),
-              (std::vector<std::string>{"adaptive-precision", "backprojection", "intro", "pcss-sssm", "penumbra-volumes", "shadow-mapping", "soft-shadow-volumes", "sub-pixel-shadow-maps"}))
+              (std::vector<std::string>{"adaptive-precision", "backprojection", "intro", "pcss-sssm", "penumbra-volumes", "shadow-mapping", "soft-shadow-volumes", "sub-pixel-shadow-maps",
+                                        "what-accuracy-costs"}))
         << "a new lesson needs its own LessonHeadless test above";
 }
 
@@ -814,6 +845,7 @@ TEST(LessonCheck, SoftShadowVolumesAt320And1024) { checkAtTwoSizes("soft-shadow-
 TEST(LessonCheck, AdaptivePrecisionAt320And1024) { checkAtTwoSizes("adaptive-precision"); }
 TEST(LessonCheck, SubPixelShadowMapsAt320And1024) { checkAtTwoSizes("sub-pixel-shadow-maps"); }
 TEST(LessonCheck, PenumbraVolumesAt320And1024) { checkAtTwoSizes("penumbra-volumes"); }
+TEST(LessonCheck, WhatAccuracyCostsAt320And1024) { checkAtTwoSizes("what-accuracy-costs"); }
 TEST(LessonCheck, SizesAreForCheckAndTrailingSlashIsAFolder) {
     EXPECT_EQ(test::run("lesson intro --sizes 320x320").code, 2);
     EXPECT_EQ(test::run("lesson intro --check --sizes 320x").code, 2);

@@ -241,10 +241,11 @@ TEST(AutoCalibration, BadFilesNameTheFileLineAndField) {
 // The shipped calibration predicts what it did not see: each scene's cases left out in turn and
 // predicted from the others' (as a new scene would be). Two measures, with the values measured on
 // the shipped file in the note of issue 25:
-//  - per (case, setting), the prediction (the larger error of the two nearest cases) is not below
-//    the measured error by more than 0.01 on at least 70% of them (measured: 76%);
+//  - per (case, setting), the prediction (the largest error of the three nearest cases, scaled by
+//    the penumbra fraction) is not below the measured error by more than 0.01 on at least 85% of
+//    them (measured: 1332 of 1470, 91%);
 //  - at the default budget 0.02, of the cases where some setting meets the budget, auto's choice
-//    meets it on at least 80% (measured: 31 of 34). Cases no setting can meet are counted apart: there
+//    meets it on at least 85% (measured: 118 of 131, 90%). Cases no setting can meet are counted apart: there
 //    auto takes the most accurate setting it predicts, and says so.
 TEST(AutoCalibration, ASubsetPredictsTheRest) {
     const Calibration cal = loadCalibration(projectRoot() + "/assets/calibration/default.json");
@@ -279,8 +280,8 @@ TEST(AutoCalibration, ASubsetPredictsTheRest) {
     }
     ASSERT_GT(pairs, 0u);
     ASSERT_GT(feasible, 0u);
-    EXPECT_LE(double(under), 0.30 * double(pairs)) << under << " of " << pairs << " predictions under the measured error by > 0.01";
-    EXPECT_LE(double(overBudget), 0.20 * double(feasible)) << overBudget << " of " << feasible << " choices over the 0.02 budget";
+    EXPECT_LE(double(under), 0.15 * double(pairs)) << under << " of " << pairs << " predictions under the measured error by > 0.01";
+    EXPECT_LE(double(overBudget), 0.15 * double(feasible)) << overBudget << " of " << feasible << " choices over the 0.02 budget";
     std::printf("[ calibration ] left-one-scene-out: %zu of %zu predictions under by > 0.01; %zu of %zu choices over the "
                 "0.02 budget where a setting meets it; %zu cases where none does\n",
                 under, pairs, overBudget, feasible, infeasible);

@@ -77,7 +77,7 @@ bool writesOnlyFrameTextures(const TechniqueDesc& desc, const PassDesc& pass) {
 // in place of a soft technique for a point light. Returns whether the technique or its parameters
 // changed.
 bool resolveLightTechnique(LightState& s, const Scene& scene, const Camera& camera, int width, int height,
-                           double time) {
+                           double time, const std::vector<Light>& lights) {
     const TechniqueDesc* before = s.desc;
     const std::map<std::string, double> beforeValues = s.params.values();
     const bool wasIdle = s.idle;
@@ -90,6 +90,7 @@ bool resolveLightTechnique(LightState& s, const Scene& scene, const Camera& came
         in.height = height;
         in.params = &s.requestedParams;
         in.time = time;
+        in.lights = lights;
         TechniqueChoice c = s.requested->choose(in);
         s.choice = c.report;
         s.idle = c.desc == nullptr;
@@ -134,8 +135,10 @@ std::vector<LightState> Renderer::resolveLights(const Scene& scene, const Render
                 usedKeys.insert(key);
             }
         }
-        resolveLightTechnique(state, scene, scene.camera, options.width, options.height, 0.0);
     }
+    std::vector<Light> all;
+    for (const LightState& state : lights) all.push_back(state.light);
+    for (LightState& state : lights) resolveLightTechnique(state, scene, scene.camera, options.width, options.height, 0.0, all);
     for (const auto& [key, value] : options.sets) {
         if (usedKeys.count(key)) continue;
         std::string message = "--set " + key + "=" + value + ": unknown parameter '" + key + "'";
@@ -198,7 +201,7 @@ void Renderer::configureLight(LightSlot& slot) {
     LightState& s = slot.state;
     // A point light runs no soft-shadow pass: hard shadows, with the shadow-map settings; `auto`
     // runs what it picks for this light, camera and frame.
-    resolveLightTechnique(s, scene_, frame_.camera, frame_.width, frame_.height, frame_.time);
+    resolveLightTechnique(s, scene_, frame_.camera, frame_.width, frame_.height, frame_.time, frameLights());
     slot.passes.clear();
     if (s.runs())
         for (const PassDesc& p : s.desc->passes) slot.passes.push_back(p.create());
@@ -558,7 +561,7 @@ void Renderer::rechoose() {
         LightSlot& slot = *lp;
         if (!slot.state.requested->choose) continue;
         LightState probe = slot.state;
-        if (resolveLightTechnique(probe, scene_, frame_.camera, frame_.width, frame_.height, frame_.time)) {
+        if (resolveLightTechnique(probe, scene_, frame_.camera, frame_.width, frame_.height, frame_.time, frameLights())) {
             configureLight(slot);
             changed = true;
         } else {
@@ -569,6 +572,12 @@ void Renderer::rechoose() {
         buildGraph();
         releaseUndeclaredResources();
     }
+}
+
+std::vector<Light> Renderer::frameLights() const {
+    std::vector<Light> out;
+    for (const auto& l : lights_) out.push_back(l->state.light);
+    return out;
 }
 
 std::vector<const LightState*> Renderer::lights() const {

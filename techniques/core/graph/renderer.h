@@ -129,6 +129,7 @@ public:
     const ResourcePool& pool() const { return pool_; }
     ResourcePool& pool() { return pool_; }
     std::vector<const LightState*> lights() const;
+    std::vector<Light> frameLights() const;  // every light as rendered, in order
     // Each light's technique and parameters (`hard` for a point light) as the constructor resolves
     // them, with no GL work: for checks made before there is a context (lesson --check's views).
     // Bad input is an InputError, as from the constructor.

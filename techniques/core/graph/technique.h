@@ -174,6 +174,9 @@ struct ChoiceInputs {
     int width = 0, height = 0;
     const ParamValues* params = nullptr;
     double time = 0.0;
+    // Every light of the frame as rendered, this one among them: v mixes the lights (shade.frag), so
+    // a choice may share its error budget between them.
+    std::vector<Light> lights;
 };
 // What it picked: a registered technique with its parameters, or nothing to run (`desc` null: the
 // light's shadow falls on no visible pixel, its visibility is 1), and why (for --stats and the HUD).
