@@ -4,8 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include "auto/auto.h"
-#include "bench/bench.h"
+#include "bench/compare.h"
 #include "error.h"
 #include "vtk_offscreen.h"
 #include "gl/texture.h"
@@ -88,13 +87,6 @@ void markPixel(Image& img, glm::ivec2 p) {
         }
 }
 
-// The step's setting as the chart labels it: its parameters as the lesson set them, or "defaults".
-std::string stepLabel(const std::vector<std::pair<std::string, std::string>>& params) {
-    std::string label;
-    for (const auto& [k, v] : params) label += (label.empty() ? "" : " ") + k + "=" + v;
-    return label.empty() ? "defaults" : label;
-}
-
 Image accuracyTimeView(RendererLessonHost& host) {
     AccuracyTimePanel panel{host.sceneName() + ": RMSE against the step's reference, " + std::to_string(host.width()) +
                                 "x" + std::to_string(host.height()),
@@ -122,40 +114,12 @@ std::vector<AccuracyTimePoint> lessonAccuracyPoints(RendererLessonHost& host, in
     scene.camera = host.camera();
     const Image reference = host.reference().visibility();
     const bool cpuClock = std::string(host.technique().clockName()) == "cpu-finish";
+    const TechniqueDesc& desc = requireTechnique(host.techniqueId(), "lesson");
+    ParamValues shown(desc);
+    for (const auto& [k, v] : host.techniqueParams()) shown.set(desc, k, v, "lesson");
     std::vector<AccuracyTimePoint> points;
-    auto place = [&](const std::string& technique, const std::vector<std::pair<std::string, std::string>>& sets,
-                     const std::string& label, bool highlight) {
-        const Measurement m = measureSetting(scene, host.sceneName(), host.width(), host.height(), std::nullopt,
-                                             Setting{technique, sets}, frames, 1, &reference, cpuClock);
-        points.push_back({technique, label, m.shadowMs, m.all.rmse, highlight});
-    };
-    // What auto chooses among, each at the setting the calibration measured.
-    for (const CalibrationSetting& s : defaultCalibration().settings)
-        place(s.technique, s.sets, s.sets.empty() ? "defaults" : s.describe(), false);
-    // auto at a few budgets, and at the step's own setting (ringed) when it is auto's.
-    const bool stepIsAuto = host.techniqueId() == "auto";
-    const auto& stepParams = host.techniqueParams();
-    double stepBudget = NAN;  // the step's budget when its other parameters are at their defaults
-    if (stepIsAuto) {
-        const TechniqueDesc& desc = autoTechnique();
-        ParamValues values(desc);
-        for (const auto& [k, v] : stepParams) values.set(desc, k, v, "lesson");
-        bool defaults = true;
-        for (const ParamDesc& p : desc.params)
-            if (p.key != "error_budget") defaults = defaults && values.get(p.key) == p.defaultValue;
-        if (defaults) stepBudget = values.get("error_budget");
-    }
-    bool stepPlaced = false;
-    for (const char* budget : {"0.005", "0.02", "0.1"}) {
-        std::vector<std::pair<std::string, std::string>> sets = {{"error_budget", budget}};
-        const bool isStep = std::abs(std::stod(budget) - stepBudget) < 1e-9;
-        stepPlaced |= isStep;
-        place("auto", sets, std::string("budget ") + budget, isStep);
-    }
-    if (stepIsAuto && !stepPlaced) place("auto", host.techniqueParams(), stepLabel(host.techniqueParams()), true);
-    if (!stepIsAuto)
-        for (AccuracyTimePoint& p : points)
-            p.highlight = p.series == host.techniqueId() && host.techniqueParams().empty() && p.label == "defaults";
+    for (const ChartSetting& s : comparedSettings(host.techniqueId(), &shown))
+        points.push_back(measureChartSetting(scene, host.sceneName(), host.width(), host.height(), s, reference, cpuClock, frames));
     return points;
 }
 

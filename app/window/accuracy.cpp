@@ -61,6 +61,49 @@ void Window::recordAccuracyPoint() {
     accuracyDirty_ = true;
 }
 
+void Window::compareEveryTechnique(bool on) {
+    compareAll_ = on;
+    compareQueue_.clear();
+    compareTotal_ = 0;
+    compareGeneration_ = ~0ull;
+    if (on) state_.showAccuracy = true;
+}
+
+void Window::stepAccuracyCompare() {
+    if (!compareAll_ || !state_.showAccuracy || !scene_ || !renderer_) return;
+    if (!ref().complete() || referenceVersion_ != version_) return;
+    if (compareGeneration_ != ref().generation()) {
+        // A new reference: every setting again (recordAccuracyPoint cleared the old points), but
+        // the one shown, which the window places itself.
+        const LightState& light = *renderer_->lights().at(0);
+        compareQueue_.clear();
+        for (const ChartSetting& s : comparedSettings(state_.technique, &light.requestedParams))
+            if (!s.current) compareQueue_.push_back(s);
+        compareTotal_ = compareQueue_.size();
+        compareGeneration_ = ref().generation();
+        if (accuracyGeneration_ != ref().generation()) {
+            accuracyPoints_.clear();
+            accuracyGeneration_ = ref().generation();
+        }
+    }
+    if (compareQueue_.empty()) return;
+    // One setting per frame: a heavy technique at the full size takes a second or so on llvmpipe.
+    const ChartSetting s = compareQueue_.front();
+    compareQueue_.erase(compareQueue_.begin());
+    Scene scene = *scene_;
+    scene.lights = renderer_->frameLights();
+    scene.camera = state_.camera;
+    const glm::ivec2 size = renderSize();
+    AccuracyTimePoint point =
+        measureChartSetting(scene, scene_->name, size.x, size.y, s, ref().visibility(), true, 2);
+    auto same = std::find_if(accuracyPoints_.begin(), accuracyPoints_.end(), [&](const AccuracyTimePoint& p) {
+        return p.series == point.series && p.label == point.label;
+    });
+    if (same != accuracyPoints_.end()) *same = point;
+    else accuracyPoints_.push_back(point);
+    accuracyDirty_ = true;
+}
+
 void Window::drawAccuracyChart() {
     if (!state_.showAccuracy) return;
     const float s = state_.uiScale;
@@ -84,7 +127,10 @@ void Window::drawAccuracyChart() {
     placeRegion(layout_.cells.back());
     ImGui::Begin("Accuracy vs time (A)", &state_.showAccuracy,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-    if (accuracyPoints_.empty())
+    if (compareAll_ && !compareQueue_.empty())
+        ImGui::Text("placing every technique: %zu of %zu (next: %s)", compareTotal_ - compareQueue_.size(), compareTotal_,
+                    compareQueue_.front().technique.c_str());
+    else if (accuracyPoints_.empty())
         ImGui::TextWrapped("Points appear once the reference is complete: each setting you try is placed by its "
                            "shadow_ms and its RMSE against the reference (B computes it in the background).");
     else
@@ -97,7 +143,13 @@ void Window::drawAccuracyChart() {
     if (ImGui::Button("clear")) {
         accuracyPoints_.clear();
         accuracyDirty_ = true;
+        compareEveryTechnique(false);
     }
+    ImGui::SameLine();
+    if (ImGui::Button("every technique")) compareEveryTechnique(true);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Places every setting auto chooses among (each technique at its defaults) and auto at the "
+                          "budgets 0.005, 0.02 and 0.1, one per frame, against this reference");
     ImGui::End();
 }
 

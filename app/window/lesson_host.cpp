@@ -79,6 +79,12 @@ public:
             referenceShown_ = shown;  // applied with the split (setSplit comes after the views)
             return;
         }
+        if (view == "accuracy-time") {
+            // The chart panel, filled with every technique once the reference is complete.
+            if (shown != w_.compareAll_) w_.compareEveryTechnique(shown);
+            if (!shown) w_.state_.showAccuracy = false;
+            return;
+        }
         if (view == "shadow-map-texels") texelsShown_ = shown;  // comes before "shadow-map"
         std::string name = view == "shadow-map-texels" ? "shadow-map" : view;
         std::vector<ViewInfo> all = listViews();

@@ -773,6 +773,7 @@ void Window::renderViews() {
             ref().step(left);
     }
     updateMetrics();
+    stepAccuracyCompare();
 }
 
 void Window::updateMetrics() {

@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/compare.h"
 #include "chart_accuracy_time.h"
 #include "gl/util.h"
 #include "graph/renderer.h"
@@ -304,6 +305,12 @@ private:
     void drawLesson(double seconds);   // the lesson panel, and the step's animation advanced
     void recordAccuracyPoint();        // the current setting's shadow_ms and RMSE (metrics just computed)
     void drawAccuracyChart();
+    // The chart's comparison with every setting `auto` chooses among and `auto` at three budgets
+    // (bench/compare.h; a lesson's `show accuracy-time`, the chart's button): on, it opens the chart
+    // and places one queued setting per frame once the reference is complete (a change of scene,
+    // light, camera or size starts again).
+    void compareEveryTechnique(bool on);
+    void stepAccuracyCompare();
     bool rebuildScene();  // false (status says why) when the scene does not load: the old one stays
     void compileShaders();  // every technique's programs for the scene, before its first frame
     void renderViews();
@@ -465,6 +472,10 @@ private:
     void updateViews();
     std::vector<AccuracyTimePoint> accuracyPoints_;
     uint64_t accuracyGeneration_ = ~0ull;
+    bool compareAll_ = false;
+    std::vector<ChartSetting> compareQueue_;  // still to place against the reference of compareGeneration_
+    size_t compareTotal_ = 0;
+    uint64_t compareGeneration_ = ~0ull;
     bool accuracyDirty_ = true;
     int costFrame_ = 1 << 28;  // frame numbers of cost measurements (above any frame the window runs)
     std::unique_ptr<VtkOffscreen> accuracyFrame_;

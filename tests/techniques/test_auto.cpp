@@ -367,5 +367,28 @@ TEST_F(AutoRender, TheBudgetChangesTheChoiceLiveAndSaysWhy) {
     EXPECT_TRUE(ranTight);
 }
 
+// The window asks for a light's internals (the views, a lesson's conditions); when the budget then
+// moves auto to another technique, the stats and cost measurements replay that request: the old
+// technique's internals are gone and must not be asked for (it threw "nothing produces requested
+// output" in the window, what-accuracy-costs step 3 to 4).
+TEST_F(AutoRender, ANewPickDropsTheOldPicksRequestedInternals) {
+    const Scene scene = loadScene("square-occluder");
+    RenderOptions o;
+    o.width = o.height = 96;
+    o.technique = "auto";
+    o.sets = {{"error_budget", "0.002"}};
+    Renderer r(scene, o);
+    const std::string tight = r.lights()[0]->desc->id;
+    std::set<std::string> requested = {"image", "visibility"};
+    for (const std::string& name : r.internalRequests(false)) requested.insert(name);
+    r.renderFrame(0, requested);
+    r.setParam("error_budget", "0.5");
+    ASSERT_NE(r.lights()[0]->desc->id, tight);
+    nlohmann::json stats;
+    EXPECT_NO_THROW(stats = r.stats({}, 0));
+    EXPECT_NO_THROW(r.measureCost(1, 1));
+    r.renderFrame(2, {"image", "visibility"});
+}
+
 }  // namespace
 }  // namespace shadowlab

@@ -326,6 +326,11 @@ void Renderer::buildGraph() {
         }
         shade(visibility);
     });
+    // A light's technique may have changed (auto's pick, setTechnique): the outputs the last frame
+    // requested of the old one (its internals) are produced no more, and the stats and cost
+    // measurements that replay that request must not ask for them.
+    for (auto it = lastRequested_.begin(); it != lastRequested_.end();)
+        it = graph_.produces(*it) ? std::next(it) : lastRequested_.erase(it);
 }
 
 void Renderer::shade(const std::vector<const Texture*>& visibility) {
