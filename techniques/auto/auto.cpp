@@ -71,14 +71,17 @@ uint64_t mixFloat(uint64_t h, float f) {
 }
 
 const ShadowSamples& shadowSamples(const Scene& scene, const Light& light, const Bounds& region, double t) {
-    // The key: the scene (its address, object count and each object's triangle count, first vertex
-    // and transform), the light, the region and the time.
-    uint64_t key = mix(0xcbf29ce484222325ull, uint64_t(reinterpret_cast<uintptr_t>(&scene)));
-    key = mix(key, uint64_t(t * 1e6));
+    // The key: the scene's content (each object's triangle and vertex counts, its first, middle and
+    // last vertex, transform and flags; not its address: the same scene loaded again reuses its
+    // samples, and a scene freed and another allocated at its address cannot), the light, the region
+    // and the time.
+    uint64_t key = mix(0xcbf29ce484222325ull, uint64_t(t * 1e6));
     for (const Object& o : scene.objects) {
         key = mix(key, o.mesh.triangleCount());
+        key = mix(key, o.mesh.positions.size());
         if (!o.mesh.positions.empty())
-            for (int c = 0; c < 3; ++c) key = mixFloat(key, o.mesh.positions[0][c]);
+            for (size_t v : {size_t(0), o.mesh.positions.size() / 2, o.mesh.positions.size() - 1})
+                for (int c = 0; c < 3; ++c) key = mixFloat(key, o.mesh.positions[v][c]);
         const glm::mat4 m = o.worldFromObjectAt(t);
         for (int i = 0; i < 4; ++i)
             for (int c = 0; c < 4; ++c) key = mixFloat(key, m[i][c]);
@@ -97,7 +100,7 @@ const ShadowSamples& shadowSamples(const Scene& scene, const Light& light, const
     static std::map<uint64_t, ShadowSamples> cache;
     std::lock_guard<std::mutex> lock(mutex);
     if (auto it = cache.find(key); it != cache.end()) return it->second;
-    if (cache.size() > 64) cache.clear();
+    if (cache.size() >= 64) cache.clear();
 
     // Candidates spread over the receivers' triangles that touch the region, by area, with a fixed
     // sequence (R2 low-discrepancy pairs: the same points every time); those inside the region kept.
@@ -264,7 +267,15 @@ LightFeatures measureLightFeatures(const Scene& scene, const Light& light, const
     // The penumbra's share of the frame: the sampled points in penumbra (0 < v < 1), each weighted by
     // the pixels its patch covers, area x cos / distance^2 x focal^2, when it lies in the frustum and
     // faces the camera.
-    if (f.shadowOnScreen && !f.point) {
+    if (f.shadowOnScreen && !f.point && t != 0.0) {
+        // Moving objects: the fraction and the share at the scene's first pose (t = 0). A choice is
+        // not made again as objects move, and the samples stay cached (one ray-traced set per scene
+        // and light, not one per frame time: a window or a soak would otherwise fill the cache with
+        // times).
+        const LightFeatures rest = measureLightFeatures(scene, light, camera, width, height, 0.0, all);
+        f.penumbraFraction = rest.penumbraFraction;
+        f.share = rest.share;
+    } else if (f.shadowOnScreen && !f.point) {
         const ShadowSamples& samples = shadowSamples(scene, light, region, t);
         double pixels = 0.0, share2 = 0.0;
         size_t inPenumbra = 0;

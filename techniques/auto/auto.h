@@ -35,7 +35,8 @@ struct LightFeatures {
     // The share of the frame's pixels in this light's penumbra, estimated by ray-tracing the light
     // (16 stratified rays) from points spread over the receivers where its shadows can fall, each
     // weighted by the pixels its patch covers on screen (occlusion from the camera ignored: an upper
-    // estimate). What scales a technique's whole-image RMSE from its penumbra error.
+    // estimate). What scales a technique's whole-image RMSE from its penumbra error. Taken at the
+    // scene's first pose (t = 0) whatever t: one cached ray-traced set per scene and light.
     double penumbraFraction = 0.0;
     bool shadowOnScreen = true;   // false: the region where this light's shadows can fall is outside
                                   // the camera's frustum (conservative: true when unsure)
