@@ -17,27 +17,29 @@ ParamValues valuesOf(const TechniqueDesc& desc, const std::vector<std::pair<std:
     return v;
 }
 
-// The parameters that differ from the defaults, "key=value ...", or "defaults".
-std::string labelOf(const TechniqueDesc& desc, const ParamValues& values) {
+}  // namespace
+
+// The setting as the chart labels it: the parameters whose value differs from the paper's default
+// (by the paper's symbol where it has one: "n=9", "alpha=0.5"; enums by name), or "defaults". Read
+// from the values the renderer runs, so a slider moved back to its default reads "defaults" again.
+std::string settingLabel(const TechniqueDesc& desc, const ParamValues& values) {
     std::string label;
     for (const ParamDesc& p : desc.params) {
         const double v = values.get(p.key);
         if (v == p.defaultValue) continue;
-        char text[96];
-        if (p.type == ParamDesc::Type::Enum) std::snprintf(text, sizeof text, "%s=%s", p.key.c_str(), values.getChoice(p.key).c_str());
-        else std::snprintf(text, sizeof text, "%s=%g", p.key.c_str(), v);
-        label += (label.empty() ? "" : " ") + std::string(text);
+        char text[64];
+        if (p.type == ParamDesc::Type::Enum) std::snprintf(text, sizeof text, "%s", values.getChoice(p.key).c_str());
+        else std::snprintf(text, sizeof text, "%g", v);
+        label += (label.empty() ? "" : " ") + (p.symbol.empty() ? p.key : p.symbol) + "=" + text;
     }
     return label.empty() ? "defaults" : label;
 }
-
-}  // namespace
 
 std::vector<ChartSetting> comparedSettings(const std::string& technique, const ParamValues* current) {
     std::vector<ChartSetting> out;
     for (const CalibrationSetting& s : defaultCalibration().settings) {
         const TechniqueDesc& desc = requireTechnique(s.technique, "calibration");
-        out.push_back({s.technique, s.sets, labelOf(desc, valuesOf(desc, s.sets)), false});
+        out.push_back({s.technique, s.sets, settingLabel(desc, valuesOf(desc, s.sets)), false});
     }
     for (const char* budget : {"0.005", "0.02", "0.1"})
         out.push_back({"auto", {{"error_budget", budget}}, std::string("budget ") + budget, false});
@@ -49,7 +51,7 @@ std::vector<ChartSetting> comparedSettings(const std::string& technique, const P
             s.current = true;
             return out;
         }
-    ChartSetting own{technique, {}, labelOf(*desc, shown), true};
+    ChartSetting own{technique, {}, settingLabel(*desc, shown), true};
     for (const ParamDesc& p : desc->params) {
         char text[64];
         if (p.type == ParamDesc::Type::Enum) std::snprintf(text, sizeof text, "%s", shown.getChoice(p.key).c_str());

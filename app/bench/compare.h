@@ -16,6 +16,7 @@
 namespace shadowlab {
 
 class ParamValues;
+struct TechniqueDesc;
 
 struct ChartSetting {
     std::string technique;
@@ -23,6 +24,10 @@ struct ChartSetting {
     std::string label;                                      // "defaults", "budget 0.02", "n=9"
     bool current = false;                                   // the setting being shown
 };
+
+// The chart's label of a setting: the parameters that differ from the paper's defaults, by symbol
+// ("n=9 alpha=0.5"), or "defaults".
+std::string settingLabel(const TechniqueDesc& desc, const ParamValues& values);
 
 // `technique` and `current` (its values; null: its defaults) are the setting being shown.
 std::vector<ChartSetting> comparedSettings(const std::string& technique, const ParamValues* current);

@@ -22,22 +22,6 @@
 
 namespace shadowlab {
 
-// The setting as the chart labels it: the parameters whose value differs from the paper's default
-// (by the paper's symbol where it has one: "n=9", "alpha=0.5"; enums by name), or "defaults". Read
-// from the values the renderer runs, so a slider moved back to its default reads "defaults" again.
-std::string settingLabel(const TechniqueDesc& desc, const ParamValues& values) {
-    std::string label;
-    for (const ParamDesc& p : desc.params) {
-        const double v = values.get(p.key);
-        if (v == p.defaultValue) continue;
-        char text[64];
-        if (p.type == ParamDesc::Type::Enum) std::snprintf(text, sizeof text, "%s", values.getChoice(p.key).c_str());
-        else std::snprintf(text, sizeof text, "%g", v);
-        label += (label.empty() ? "" : " ") + (p.symbol.empty() ? p.key : p.symbol) + "=" + text;
-    }
-    return label.empty() ? "defaults" : label;
-}
-
 void Window::recordAccuracyPoint() {
     // Timing a setting runs its passes three more times (seconds for a heavy technique on llvmpipe):
     // only while the chart is open.
@@ -51,7 +35,7 @@ void Window::recordAccuracyPoint() {
     double shadowMs = renderer_->cost(costFrame_).shadowMs;
     costFrame_ += 3;
     const LightState& light = *renderer_->lights().at(0);
-    AccuracyTimePoint point{state_.technique, settingLabel(*light.desc, light.params), shadowMs, metricsAll_->rmse, true};
+    AccuracyTimePoint point{state_.technique, settingLabel(*light.requested, light.requestedParams), shadowMs, metricsAll_->rmse, true};
     for (AccuracyTimePoint& p : accuracyPoints_) p.highlight = false;
     auto same = std::find_if(accuracyPoints_.begin(), accuracyPoints_.end(), [&](const AccuracyTimePoint& p) {
         return p.series == point.series && p.label == point.label;

@@ -487,9 +487,6 @@ private:
     uint64_t referenceVersion_ = ~0ull;  // version_ the reference was last synced to
 };
 
-// The accuracy chart's label of a setting: the parameters that differ from the paper's defaults, by
-// symbol ("n=9 alpha=0.5"), or "defaults" (app/window/accuracy.cpp).
-std::string settingLabel(const TechniqueDesc& desc, const ParamValues& values);
 
 // Reads and checks a --script file (window_input.cpp lists the steps). InputError naming file:line.
 std::deque<ScriptCommand> parseScript(const std::string& path);
