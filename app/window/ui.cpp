@@ -344,10 +344,16 @@ void Window::drawUi() {
                 ImGui::TextColored(ImVec4(0.55f, 0.85f, 1.0f, 1.0f), "%s", text.c_str());
                 tooltip(a.value("why", std::string()).c_str());
                 if (a.contains("predicted")) {
-                    char line[160];
-                    std::snprintf(line, sizeof line, "   predicted RMSE %.4f in %.1f ms (budget %.4f)",
-                                  a["predicted"].value("error", 0.0), a["predicted"].value("ms", 0.0),
-                                  a["budget"].value("error", 0.0));
+                    char line[200];
+                    if (a.contains("measured_error"))  // measured on the view at the trial size (trial.h)
+                        std::snprintf(line, sizeof line, "   trial: RMSE %.4f in %.1f ms (budget %.4f; predicted %.4f)",
+                                      a.value("measured_error", 0.0),
+                                      a.value("measured_ms", a["predicted"].value("ms", 0.0)),
+                                      a["budget"].value("error", 0.0), a["predicted"].value("error", 0.0));
+                    else
+                        std::snprintf(line, sizeof line, "   predicted RMSE %.4f in %.1f ms (budget %.4f)",
+                                      a["predicted"].value("error", 0.0), a["predicted"].value("ms", 0.0),
+                                      a["budget"].value("error", 0.0));
                     ImGui::Text("%s", line);
                     if (currentMetrics && stats_.value("lights", nlohmann::json::array()).size() == 1) {
                         ImGui::SameLine();

@@ -382,6 +382,7 @@ void Window::setLight(int index, const Light& light) {
     l.direction = glm::normalize(l.direction);
     l.size = std::max(0.0f, l.size);
     state_.lights[size_t(index)] = l;
+    renderer_->setMeasureChoices(!interacting());
     renderer_->setLight(size_t(index), l);
     touch();
 }
@@ -392,6 +393,7 @@ void Window::resetLight() {
 
 void Window::setCamera(const Camera& camera) {
     state_.camera = camera;
+    renderer_->setMeasureChoices(!interacting());  // `auto` measures its picks at rest only (renderViews)
     renderer_->setCamera(camera);
     touch();
 }
@@ -544,6 +546,8 @@ Renderer& Window::syncMirror(MirrorRenderer& m, const std::string& technique,
         options.cpuClock = true;
         options.keepResources = &m == &preview_;  // the drag frames' renderer: see rebuildScene
         options.spareBytes = kSpareBytes;  // the drag's divisor changes its size
+        // A drag's reduced frames: `auto` predicts there (a trial a frame would stall the drag).
+        options.measureChoices = &m != &preview_ && &m != &comparePreview_;
         m.renderer = std::make_unique<Renderer>(*scene_, options);
         m.technique = technique;
         m.params.clear();
@@ -584,6 +588,9 @@ std::string Window::shownText() const {
 }
 
 void Window::renderViews() {
+    // `auto`'s choices: predicted while the user drags or types (Window::setCamera), measured again
+    // once at rest (a trial renders each candidate on this view: a second's stall, not one per frame).
+    renderer_->setMeasureChoices(!interacting());
     glm::ivec2 full = renderSize();
     const double budget = renderBudgetMs();
     // The layout changed the technique view's size (a panel, the views, presentation): the picked

@@ -1,5 +1,6 @@
 // `auto` (issue 25; README.md beside this file): the features, the calibration file and the choice.
 #include "auto/auto.h"
+#include "auto/trial.h"
 
 #include <algorithm>
 #include <chrono>
@@ -70,11 +71,9 @@ uint64_t mixFloat(uint64_t h, float f) {
     return mix(h, bits);
 }
 
-const ShadowSamples& shadowSamples(const Scene& scene, const Light& light, const Bounds& region, double t) {
-    // The key: the scene's content (each object's triangle and vertex counts, its first, middle and
-    // last vertex, transform and flags; not its address: the same scene loaded again reuses its
-    // samples, and a scene freed and another allocated at its address cannot), the light, the region
-    // and the time.
+}  // namespace
+
+uint64_t sceneContentKey(const Scene& scene, double t) {
     uint64_t key = mix(0xcbf29ce484222325ull, uint64_t(t * 1e6));
     for (const Object& o : scene.objects) {
         key = mix(key, o.mesh.triangleCount());
@@ -87,15 +86,33 @@ const ShadowSamples& shadowSamples(const Scene& scene, const Light& light, const
             for (int c = 0; c < 4; ++c) key = mixFloat(key, m[i][c]);
         key = mix(key, uint64_t(o.castsShadows) * 2 + uint64_t(o.receivesShadows));
     }
+    return key;
+}
+
+uint64_t mixLightKey(uint64_t key, const Light& light) {
     for (int c = 0; c < 3; ++c) {
         key = mixFloat(key, light.position[c]);
         key = mixFloat(key, light.direction[c]);
         key = mixFloat(key, light.up[c]);
+        key = mixFloat(key, light.color[c]);
+    }
+    key = mixFloat(key, light.size);
+    key = mixFloat(key, light.intensity);
+    key = mix(key, uint64_t(light.shape) * 2 + uint64_t(light.castsShadows));
+    return key;
+}
+
+namespace {
+
+const ShadowSamples& shadowSamples(const Scene& scene, const Light& light, const Bounds& region, double t) {
+    // The key: the scene's content (sceneContentKey: not its address, so the same scene loaded again
+    // reuses its samples, and a scene freed and another allocated at its address cannot), the light,
+    // the region and the time.
+    uint64_t key = mixLightKey(sceneContentKey(scene, t), light);
+    for (int c = 0; c < 3; ++c) {
         key = mixFloat(key, region.lo[c]);
         key = mixFloat(key, region.hi[c]);
     }
-    key = mixFloat(key, light.size);
-    key = mix(key, uint64_t(light.shape));
     static std::mutex mutex;
     static std::map<uint64_t, ShadowSamples> cache;
     std::lock_guard<std::mutex> lock(mutex);
@@ -520,14 +537,112 @@ Prediction predictSetting(const Calibration& cal, size_t setting, const LightFea
     return p;
 }
 
+namespace {
+
+// How a shared budget came about: " = 0.02 / (1 light x share 0.56 of v)"; "" when not shared.
+std::string sharedBudgetText(const AutoBudget& budget, const LightFeatures& features) {
+    if (!(budget.frameError > 0.0 && budget.frameError != budget.error)) return "";
+    if (budget.byFacts >= 0.0)
+        return " = sqrt((" + fmt("%.4g", budget.frameError) + "^2 - " + fmt("%.4f", budget.byFacts) +
+               "^2 measured for the lights the facts give hard) / " + std::to_string(budget.sharedBy) +
+               (budget.sharedBy == 1 ? " light)" : " lights)");
+    return " = " + fmt("%.4g", budget.frameError) + " / (" + std::to_string(budget.sharedBy) +
+           (budget.sharedBy == 1 ? " light" : " lights") + " x share " + fmt("%.2f", features.share) + " of v)";
+}
+
+// The measured choice: the settings within the time budget (predicted), by predicted time; each
+// measured in turn until one meets the error budget. Nothing does: the most accurate measured.
+void chooseMeasured(const Calibration& cal, const LightFeatures& features, const AutoBudget& budget,
+                    const std::vector<Prediction>& predictions, const MeasureSetting& measure, double machineScale,
+                    TechniqueChoice& choice,
+                               const std::function<void(const TechniqueDesc*, const std::vector<std::pair<std::string, std::string>>&)>& pick) {
+    const std::string metric = budget.penumbra ? "penumbra RMSE" : "RMSE";
+    const bool timed = budget.timeMs > 0.0;
+    std::vector<size_t> order;
+    for (size_t s = 0; s < predictions.size(); ++s)
+        if (!timed || predictions[s].ms <= budget.timeMs) order.push_back(s);
+    if (order.empty())  // nothing fits the time budget: the fastest alone
+        order.push_back(size_t(std::min_element(predictions.begin(), predictions.end(),
+                                                [](const Prediction& a, const Prediction& b) { return a.ms < b.ms; }) -
+                               predictions.begin()));
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return predictions[a].ms < predictions[b].ms; });
+    std::vector<std::optional<double>> measured(predictions.size()), measuredMs(predictions.size());
+    long best = -1, mostAccurate = -1;
+    double explore = std::numeric_limits<double>::infinity();  // predicted ms up to which to measure
+    for (size_t s : order) {
+        if (predictions[s].ms > explore) break;
+        const std::optional<MeasuredError> m = measure(s, false);
+        if (!m) continue;
+        measured[s] = budget.penumbra ? m->rmsePenumbra : m->rmse;
+        if (mostAccurate < 0 || *measured[s] < *measured[size_t(mostAccurate)]) mostAccurate = long(s);
+        if (*measured[s] > budget.error) continue;
+        const std::optional<MeasuredError> t = measure(s, true);
+        measuredMs[s] = t && t->ms >= 0.0 ? t->ms : predictions[s].ms;
+        if (best < 0) explore = kTimeExplore * predictions[s].ms;
+        if (best < 0 || *measuredMs[s] < *measuredMs[size_t(best)]) best = long(s);
+    }
+    std::string rule = "measured";
+    if (best < 0) {
+        rule = "nothing meets the budget";
+        best = mostAccurate >= 0 ? mostAccurate : long(order.front());
+    }
+    nlohmann::json alternatives = nlohmann::json::array();
+    for (size_t s = 0; s < predictions.size(); ++s) {
+        const Prediction& p = predictions[s];
+        std::string rejected;
+        if (long(s) == best)
+            rejected = "chosen";
+        else if (measured[s] && *measured[s] > budget.error)
+            rejected = "measured " + metric + " " + fmt("%.4f", *measured[s]) + " > budget " + fmt("%.4f", budget.error);
+        else if (measuredMs[s])
+            rejected = "measured " + metric + " " + fmt("%.4f", *measured[s]) + " in " + fmt("%.2f", *measuredMs[s]) +
+                       " ms, slower than the chosen one";
+        else if (measured[s])
+            rejected = "measured " + metric + " " + fmt("%.4f", *measured[s]) + ", less accurate than the chosen one";
+        else if (timed && p.ms > budget.timeMs)
+            rejected = "predicted " + fmt("%.2f", p.ms) + " ms > time budget " + fmt("%.2f", budget.timeMs) + " ms";
+        else
+            rejected = "predicted " + fmt("%.2f", p.ms) + " ms, slower than the chosen one (not measured)";
+        nlohmann::json a = {{"setting", cal.settings[s].describe()},
+                            {"predicted_error", p.error},
+                            {"predicted_ms", p.ms},
+                            {"rejected", rejected}};
+        if (measured[s]) a["measured_error"] = *measured[s];
+        if (measuredMs[s]) a["measured_ms"] = *measuredMs[s];
+        alternatives.push_back(a);
+    }
+    const CalibrationSetting& chosen = cal.settings[size_t(best)];
+    pick(&requireTechnique(chosen.technique, cal.file), chosen.sets);
+    const Prediction& p = predictions[size_t(best)];
+    choice.report["rule"] = rule;
+    choice.report["predicted"] = {{"error", p.error}, {"ms", p.ms}, {"distance", p.distance}, {"nearest", p.nearest}};
+    if (measured[size_t(best)]) choice.report["measured_error"] = *measured[size_t(best)];
+    if (measuredMs[size_t(best)]) choice.report["measured_ms"] = *measuredMs[size_t(best)];
+    choice.report["alternatives"] = alternatives;
+    choice.report["calibration"] = {{"file", cal.file}, {"cases", cal.cases.size()}, {"machine_scale", machineScale}};
+    const std::string what = chosen.describe();
+    const double e = measured[size_t(best)].value_or(p.error);
+    if (rule == "measured")
+        choice.report["why"] = what + ": the fastest measured (" + fmt("%.2f", measuredMs[size_t(best)].value_or(p.ms)) +
+                               " ms) whose measured " + metric + " meets the budget (" + fmt("%.4f", e) + " <= " +
+                               fmt("%.4f", budget.error) + sharedBudgetText(budget, features) + ")";
+    else
+        choice.report["why"] = what + ": no setting" + std::string(timed ? " within the time budget" : "") +
+                               " measured within the budget; the most accurate measured (" + metric + " " +
+                               fmt("%.4f", e) + ")";
+}
+
+}  // namespace
+
 TechniqueChoice chooseTechnique(const Calibration& cal, const LightFeatures& features, const AutoBudget& budget,
-                                int pixels, double machineScale) {
+                                int pixels, double machineScale, const MeasureSetting* measure) {
     TechniqueChoice choice;
     const std::string metric = budget.penumbra ? "penumbra RMSE" : "RMSE";
     choice.report["budget"] = {{"error", budget.error}, {"on", budget.penumbra ? "penumbra" : "all"}};
     if (budget.frameError > 0.0 && budget.frameError != budget.error)
         choice.report["budget"]["shared"] = {{"frame_error", budget.frameError},
                                              {"lights", budget.sharedBy},
+                                             {"measured_by_facts", budget.byFacts},
                                              {"share", features.share}};
     if (budget.timeMs > 0.0) choice.report["budget"]["time_ms"] = budget.timeMs;
     choice.report["features"] = features.toJson();
@@ -572,6 +687,10 @@ TechniqueChoice chooseTechnique(const Calibration& cal, const LightFeatures& fea
     const bool outside = predictions.empty() || predictions[0].distance > kOutsideCalibration ||
                          features.penumbraPixels > 2.0 * widest;
     const bool timed = budget.timeMs > 0.0;
+    if (measure && *measure && !predictions.empty()) {
+        chooseMeasured(cal, features, budget, predictions, *measure, machineScale, choice, pick);
+        return choice;
+    }
     long best = -1;
     nlohmann::json alternatives = nlohmann::json::array();
     for (size_t s = 0; s < cal.settings.size(); ++s) {
@@ -614,12 +733,7 @@ TechniqueChoice chooseTechnique(const Calibration& cal, const LightFeatures& fea
     choice.report["alternatives"] = alternatives;
     choice.report["calibration"] = {{"file", cal.file}, {"cases", cal.cases.size()}, {"machine_scale", machineScale}};
     const std::string what = chosen.describe();
-    // How a shared budget came about: "0.0357 = 0.02 / (1 light x share 0.56)".
-    const std::string shared = budget.frameError > 0.0 && budget.frameError != budget.error
-                                   ? " = " + fmt("%.4g", budget.frameError) + " / (" + std::to_string(budget.sharedBy) +
-                                         (budget.sharedBy == 1 ? " light" : " lights") + " x share " +
-                                         fmt("%.2f", features.share) + " of v)"
-                                   : "";
+    const std::string shared = sharedBudgetText(budget, features);
     if (rule == "calibration")
         choice.report["why"] = what + ": the cheapest setting predicted within the budget (" + metric + " " +
                                fmt("%.4f", p.error) + " <= " + fmt("%.4f", budget.error) + shared + ", " +
@@ -675,17 +789,31 @@ const TechniqueDesc& autoTechnique() {
         time.doc = "the largest predicted shadow_ms of the choice (0: none); when nothing meets both budgets, the most "
                    "accurate setting within this one";
         d.params.push_back(time);
+        ParamDesc measured{"measure", "", ParamDesc::Type::Bool, "", 1.0, 0, 1, 1,
+                           "measure before trusting: the calibration ranks the settings by predicted time, and each is "
+                           "rendered on this light at a trial size (at most 256x256 pixels) against a ray-traced "
+                           "reference (256 rays), cheapest first, until one meets the budget (cached per view); off: "
+                           "the calibration's prediction alone decides"};
+        d.params.push_back(measured);
         d.choose = [](const ChoiceInputs& in) {
             const LightFeatures f =
                 measureLightFeatures(*in.scene, *in.light, *in.camera, in.width, in.height, in.time, in.lights);
             AutoBudget b;
             b.frameError = in.params->get("error_budget");
-            // The lights the facts do not decide share the frame's budget (lightBudget).
+            // The lights the facts do not decide share the frame's budget (lightBudget); those the
+            // facts decide (hard: a point, a penumbra under a pixel) are listed for the measured share.
             int byCalibration = 0;
-            for (const Light& l : in.lights) {
-                if (!l.castsShadows || l.isPoint()) continue;
+            std::vector<int> byFacts;
+            for (size_t k = 0; k < in.lights.size(); ++k) {
+                const Light& l = in.lights[k];
+                if (!l.castsShadows) continue;
+                if (l.isPoint()) {
+                    byFacts.push_back(int(k));
+                    continue;
+                }
                 const LightFeatures o = measureLightFeatures(*in.scene, l, *in.camera, in.width, in.height, in.time);
                 byCalibration += o.shadowOnScreen && o.penumbraPixels >= 1.0;
+                if (o.shadowOnScreen && o.penumbraPixels < 1.0) byFacts.push_back(int(k));
             }
             b.sharedBy = std::max(byCalibration, 1);
             b.error = lightBudget(b.frameError, f, b.sharedBy);
@@ -698,7 +826,51 @@ const TechniqueDesc& autoTechnique() {
             }
             const Calibration& cal = defaultCalibration();
             const double scale = std::clamp(machineProbeMs() / cal.probeMs, 0.25, 4.0);
-            return chooseTechnique(cal, f, b, in.width * in.height, scale);
+            if (!in.measure || !in.params->getBool("measure"))
+                return chooseTechnique(cal, f, b, in.width * in.height, scale);
+            TrialInputs trial;
+            trial.scene = in.scene;
+            trial.lights = in.lights.empty() ? std::vector<Light>{*in.light} : in.lights;
+            trial.light = in.lights.empty() ? 0 : in.lightIndex;
+            trial.camera = *in.camera;
+            trial.width = in.width;
+            trial.height = in.height;
+            trial.time = in.time;
+            TrialLog log;
+            const int trialPixels = trialSize(in.width, in.height).width * trialSize(in.width, in.height).height;
+            const MeasureSetting measure = [&](size_t s, bool timed) -> std::optional<MeasuredError> {
+                MeasuredError e = measureSettingError(trial, cal.settings.at(s), log, timed);
+                if (e.ms >= 0.0) {  // timed at the trial size: put at the frame's by the calibration's split
+                    const double atTrial = predictSetting(cal, s, f, b.penumbra, trialPixels, scale).ms;
+                    const double atFrame = predictSetting(cal, s, f, b.penumbra, in.width * in.height, scale).ms;
+                    if (atTrial > 0.0) e.ms *= atFrame / atTrial;
+                }
+                return e;
+            };
+            // Measured, a light's error is its part of v's error already (the trial lights the scene
+            // with the other lights, unshadowed: v's error there is this light's error weighted by its
+            // share of the light at each pixel). The lights the facts give `hard` err by aliasing:
+            // their measured parts come off the frame's budget first, and the rest is shared equally,
+            // in quadrature: the lights' errors lie in different penumbrae, so their squares add
+            // (sum_l e_l^2 <= budget^2); a linear sum (Minkowski's bound, the shares' rule) assumes
+            // every error falls on the same pixels with the same sign, and on `three-lights` leaves
+            // nothing for the third light at 0.02 (its two hard lights measure 0.010 each).
+            if (!b.penumbra && in.lights.size() > 1) {
+                double squares = 0.0;
+                for (int k : byFacts) {
+                    if (k == trial.light) continue;
+                    TrialInputs other = trial;
+                    other.light = k;
+                    const double e = measureSettingError(other, CalibrationSetting{"hard", {}}, log, false).rmse;
+                    squares += e * e;
+                }
+                b.byFacts = std::sqrt(squares);
+                b.error = std::sqrt(std::max(0.0, b.frameError * b.frameError - squares) / double(b.sharedBy));
+            }
+            TechniqueChoice c = chooseTechnique(cal, f, b, in.width * in.height, scale, &measure);
+            releaseTrialRenderers();
+            c.report["trial"] = log.toJson();
+            return c;
         };
         return d;
     }();

@@ -8,7 +8,10 @@
 //  - chooseTechnique: the facts first (a point light or a penumbra under a pixel takes `hard`; a
 //    shadow on no visible pixel runs nothing), then the calibration's prediction.
 #pragma once
+#include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -51,6 +54,12 @@ struct LightFeatures {
 // penumbra (up to the scene's bounds' looseness). At time t (objects posed as at t).
 LightFeatures measureLightFeatures(const Scene& scene, const Light& light, const Camera& camera, int width,
                                    int height, double t = 0.0, const std::vector<Light>& all = {});
+
+// Keys of the caches (the ray-traced samples, the trials): the scene's content at time t (each
+// object's triangle and vertex counts, its first, middle and last vertex, transform and flags; not
+// its address), and a light's pose, shape, size, colour and intensity mixed into a key.
+uint64_t sceneContentKey(const Scene& scene, double t);
+uint64_t mixLightKey(uint64_t key, const Light& light);
 
 // Each light's part of a frame's error budget (a light decided by the facts takes its whole budget,
 // it errs only by aliasing): with n lights left to the calibration, light l may err by
@@ -120,10 +129,34 @@ struct AutoBudget {
     double error = 0.02;       // this light's part (lightBudget)
     double frameError = 0.0;   // the frame's budget it was shared from (0: the same as error)
     int sharedBy = 1;          // the lights left to the calibration that share it
+    // Measured choices with several lights: the measured errors of the lights the facts give `hard`
+    // (their root sum of squares), taken off frameError in quadrature before the rest is shared
+    // (< 0: shared by the lights' shares instead).
+    double byFacts = -1.0;
     bool penumbra = false;  // budget_on = penumbra
     double timeMs = 0.0;    // 0: none
 };
+// A setting's error measured on this light and frame (trial.h: rendered at the trial size against a
+// ray-traced reference); nullopt when it could not be measured.
+struct MeasuredError {
+    double rmse = 0.0;          // whole image
+    double rmsePenumbra = 0.0;  // over the reference's penumbra (0 < v < 1)
+    double ms = -1.0;           // shadow_ms, timed on trial frames and put at the frame's size (< 0: not timed)
+};
+// `timed`: time it too (two more frames); asked of the settings within the budget only.
+using MeasureSetting = std::function<std::optional<MeasuredError>(size_t setting, bool timed)>;
+// Measured choices: once a setting meets the budget, the settings predicted at most this many times
+// slower are measured too, and the fastest measured within the budget is taken (the calibration's
+// times miss by up to 2x between settings of similar cost: sssm and ssv on random:2013).
+constexpr double kTimeExplore = 2.5;
+// The facts first, then the calibration. With `measure` (the parameter `measure` on, and a GL
+// context to render in), the calibration orders the settings by predicted time; their errors are
+// measured in that order, and from the first within the budget on, the settings predicted at most
+// kTimeExplore times slower are measured and timed too: the fastest measured within the budget is
+// taken. A prediction only ranks what is then checked (techniques/auto/README.md, "Measured, not
+// trusted").
 TechniqueChoice chooseTechnique(const Calibration& calibration, const LightFeatures& features,
-                                const AutoBudget& budget, int pixels, double machineScale);
+                                const AutoBudget& budget, int pixels, double machineScale,
+                                const MeasureSetting* measure = nullptr);
 
 }  // namespace shadowlab

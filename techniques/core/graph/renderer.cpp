@@ -77,7 +77,7 @@ bool writesOnlyFrameTextures(const TechniqueDesc& desc, const PassDesc& pass) {
 // in place of a soft technique for a point light. Returns whether the technique or its parameters
 // changed.
 bool resolveLightTechnique(LightState& s, const Scene& scene, const Camera& camera, int width, int height,
-                           double time, const std::vector<Light>& lights) {
+                           double time, const std::vector<Light>& lights, bool measure) {
     const TechniqueDesc* before = s.desc;
     const std::map<std::string, double> beforeValues = s.params.values();
     const bool wasIdle = s.idle;
@@ -91,6 +91,8 @@ bool resolveLightTechnique(LightState& s, const Scene& scene, const Camera& came
         in.params = &s.requestedParams;
         in.time = time;
         in.lights = lights;
+        in.lightIndex = s.index;
+        in.measure = measure;
         TechniqueChoice c = s.requested->choose(in);
         s.choice = c.report;
         s.idle = c.desc == nullptr;
@@ -138,7 +140,7 @@ std::vector<LightState> Renderer::resolveLights(const Scene& scene, const Render
     }
     std::vector<Light> all;
     for (const LightState& state : lights) all.push_back(state.light);
-    for (LightState& state : lights) resolveLightTechnique(state, scene, scene.camera, options.width, options.height, 0.0, all);
+    for (LightState& state : lights) resolveLightTechnique(state, scene, scene.camera, options.width, options.height, 0.0, all, false);
     for (const auto& [key, value] : options.sets) {
         if (usedKeys.count(key)) continue;
         std::string message = "--set " + key + "=" + value + ": unknown parameter '" + key + "'";
@@ -201,7 +203,7 @@ void Renderer::configureLight(LightSlot& slot) {
     LightState& s = slot.state;
     // A point light runs no soft-shadow pass: hard shadows, with the shadow-map settings; `auto`
     // runs what it picks for this light, camera and frame.
-    resolveLightTechnique(s, scene_, frame_.camera, frame_.width, frame_.height, frame_.time, frameLights());
+    resolveLightTechnique(s, scene_, frame_.camera, frame_.width, frame_.height, frame_.time, frameLights(), measureChoices_);
     slot.passes.clear();
     if (s.runs())
         for (const PassDesc& p : s.desc->passes) slot.passes.push_back(p.create());
@@ -560,13 +562,19 @@ void Renderer::resize(int width, int height) {
     rechoose();  // `auto`'s estimate of the penumbra in pixels follows the frame's size
 }
 
+void Renderer::setMeasureChoices(bool on) {
+    if (on == measureChoices_) return;
+    measureChoices_ = on;
+    if (on) rechoose();  // the choices made while it was off were predicted only
+}
+
 void Renderer::rechoose() {
     bool changed = false;
     for (auto& lp : lights_) {
         LightSlot& slot = *lp;
         if (!slot.state.requested->choose) continue;
         LightState probe = slot.state;
-        if (resolveLightTechnique(probe, scene_, frame_.camera, frame_.width, frame_.height, frame_.time, frameLights())) {
+        if (resolveLightTechnique(probe, scene_, frame_.camera, frame_.width, frame_.height, frame_.time, frameLights(), measureChoices_)) {
             configureLight(slot);
             changed = true;
         } else {

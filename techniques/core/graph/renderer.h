@@ -40,6 +40,8 @@ struct RenderOptions {
     // What a resize replaced, kept up to this many bytes for a return to its size (ResourcePool::
     // setSpareBytes): the window's renderers, whose size follows the layout and the drag's divisor.
     size_t spareBytes = 0;
+    // A choosing technique (`auto`) may render trials when it chooses (setMeasureChoices).
+    bool measureChoices = true;
 };
 
 class Renderer {
@@ -88,6 +90,9 @@ public:
     void setAmbient(float ambient);
     void setTime(double seconds);  // the next renderFrame(frame) sets it from the frame again
     void resize(int width, int height);
+    // Whether a choosing technique (`auto`) may render trials of its own when it chooses (default
+    // on): the window turns it off while the user drags, and on again at rest (a re-choice).
+    void setMeasureChoices(bool on);
 
     Image visibility() const;  // 1 channel, combined over the lights (see shaders/common/shade.frag)
     Image positions() const;   // 3 channels, NaN on background
@@ -173,6 +178,7 @@ private:
     const Scene& scene_;
     RenderOptions options_;
     std::unique_ptr<GpuScene> gpu_;
+    bool measureChoices_ = options_.measureChoices;
     ProgramCache& programs_ = programCache();  // the current GL context's: switching technique compiles nothing twice
     FrameState frame_;
     ResourcePool pool_;

@@ -177,6 +177,11 @@ struct ChoiceInputs {
     // Every light of the frame as rendered, this one among them: v mixes the lights (shade.frag), so
     // a choice may share its error budget between them.
     std::vector<Light> lights;
+    int lightIndex = 0;  // this light's place in `lights`
+    // A GL context is current and the renderer lets the choice render trials of its own (`auto`'s
+    // measured errors): false when lights are resolved before any GL work (Renderer::resolveLights,
+    // the memory estimate) and while the window's user drags (Renderer::setMeasureChoices).
+    bool measure = false;
 };
 // What it picked: a registered technique with its parameters, or nothing to run (`desc` null: the
 // light's shadow falls on no visible pixel, its visibility is 1), and why (for --stats and the HUD).
