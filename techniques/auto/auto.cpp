@@ -550,8 +550,9 @@ std::string sharedBudgetText(const AutoBudget& budget, const LightFeatures& feat
            (budget.sharedBy == 1 ? " light" : " lights") + " x share " + fmt("%.2f", features.share) + " of v)";
 }
 
-// The measured choice: the settings within the time budget (predicted), by predicted time; each
-// measured in turn until one meets the error budget. Nothing does: the most accurate measured.
+// The measured choice: every setting within the time budget (predicted), by predicted time, its
+// error measured; those within the error budget timed; the fastest of them taken. Nothing within
+// the budget: the most accurate measured.
 void chooseMeasured(const Calibration& cal, const LightFeatures& features, const AutoBudget& budget,
                     const std::vector<Prediction>& predictions, const MeasureSetting& measure, double machineScale,
                     TechniqueChoice& choice,
@@ -568,9 +569,7 @@ void chooseMeasured(const Calibration& cal, const LightFeatures& features, const
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return predictions[a].ms < predictions[b].ms; });
     std::vector<std::optional<double>> measured(predictions.size()), measuredMs(predictions.size());
     long best = -1, mostAccurate = -1;
-    double explore = std::numeric_limits<double>::infinity();  // predicted ms up to which to measure
     for (size_t s : order) {
-        if (predictions[s].ms > explore) break;
         const std::optional<MeasuredError> m = measure(s, false);
         if (!m) continue;
         measured[s] = budget.penumbra ? m->rmsePenumbra : m->rmse;
@@ -578,7 +577,6 @@ void chooseMeasured(const Calibration& cal, const LightFeatures& features, const
         if (*measured[s] > budget.error) continue;
         const std::optional<MeasuredError> t = measure(s, true);
         measuredMs[s] = t && t->ms >= 0.0 ? t->ms : predictions[s].ms;
-        if (best < 0) explore = kTimeExplore * predictions[s].ms;
         if (best < 0 || *measuredMs[s] < *measuredMs[size_t(best)]) best = long(s);
     }
     std::string rule = "measured";

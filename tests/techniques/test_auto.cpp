@@ -137,10 +137,10 @@ TEST(AutoChoice, NothingWithinBothBudgetsTakesTheMostAccurateWithinTheTime) {
     EXPECT_TRUE(ssvRejectedForTime) << c.report.dump(1);
 }
 
-// Measured errors decide (issue 25's "measured, not trusted"): the settings are measured cheapest
-// first by predicted time, the first within the budget is taken and nothing slower is measured;
-// the prediction's errors play no part.
-TEST(AutoChoice, MeasuredErrorsDecideCheapestFirstAndStopAtTheFirstWithinTheBudget) {
+// Measured errors decide (issue 25's "measured, not trusted"): every setting within the time budget
+// is measured, by predicted time; only those within the budget are timed; the prediction's errors
+// play no part.
+TEST(AutoChoice, MeasuredErrorsDecideAndOnlyTheSettingsWithinTheBudgetAreTimed) {
     const Calibration cal = syntheticCalibration();
     AutoBudget b;
     b.error = 0.05;
@@ -162,14 +162,16 @@ TEST(AutoChoice, MeasuredErrorsDecideCheapestFirstAndStopAtTheFirstWithinTheBudg
         if (a["setting"] == "pcss defaults")
             pcssRejected = a["rejected"].get<std::string>().find("measured RMSE 0.0700 > budget 0.0500") != std::string::npos;
     EXPECT_TRUE(pcssRejected) << c.report.dump(1);
-    // A loose budget: the cheapest meets it and nothing else is rendered.
+    // A loose budget: all three meet it and are timed; equal times keep the first by predicted time.
     asked.clear();
+    timed.clear();
     b.error = 0.1;
     c = chooseTechnique(cal, softFeatures(20.0), b, 100 * 100, 1.0, &measure);
     EXPECT_EQ(c.desc->id, "hard");
-    EXPECT_EQ(asked, (std::vector<size_t>{0}));  // pcss's predicted 5.5 ms is over kTimeExplore x hard's 2 ms
+    EXPECT_EQ(timed, (std::vector<size_t>{0, 1, 2}));
     for (const auto& a : c.report["alternatives"])
-        if (a["setting"] != "hard defaults") EXPECT_NE(a["rejected"].get<std::string>().find("not measured"), std::string::npos);
+        if (a["setting"] != "hard defaults")
+            EXPECT_NE(a["rejected"].get<std::string>().find("slower than the chosen one"), std::string::npos) << a.dump();
     // Over the penumbra: the penumbra's measured error (2x here) meets 0.05 with ssv only.
     b.error = 0.05;
     b.penumbra = true;
@@ -187,11 +189,10 @@ TEST(AutoChoice, MeasuredErrorsDecideCheapestFirstAndStopAtTheFirstWithinTheBudg
     EXPECT_EQ(asked, (std::vector<size_t>{0, 1}));  // ssv's predicted 20 ms is never rendered
 }
 
-// The calibration's times rank; measured times decide between settings predicted close: once one
-// meets the budget, those predicted up to kTimeExplore times slower are measured and timed too.
+// The calibration's times order; measured times decide: a setting predicted far slower (ssv, 20 ms)
+// but measured faster (8 ms) than one predicted cheap (pcss, 5.5 predicted, 30 measured) is taken.
 TEST(AutoChoice, MeasuredTimesPickTheFastestOfTheSettingsWithinTheBudget) {
-    Calibration cal = syntheticCalibration();
-    for (CalibrationCase& c : cal.cases) c.results[2].frameMs = 12.0;  // ssv predicted 12 ms: within 2.5 x pcss's 5.5
+    const Calibration cal = syntheticCalibration();
     AutoBudget b;
     b.error = 0.05;
     const std::vector<double> error = {0.08, 0.03, 0.01}, ms = {2.0, 30.0, 8.0};  // pcss really slow here
@@ -204,9 +205,6 @@ TEST(AutoChoice, MeasuredTimesPickTheFastestOfTheSettingsWithinTheBudget) {
     for (const auto& a : c.report["alternatives"])
         if (a["setting"] == "pcss defaults")
             EXPECT_NE(a["rejected"].get<std::string>().find("in 30.00 ms, slower than the chosen one"), std::string::npos) << a.dump();
-    // Predicted far slower (ssv at 20 ms, over 2.5 x 5.5): not explored, pcss stays.
-    cal = syntheticCalibration();
-    EXPECT_EQ(chooseTechnique(cal, softFeatures(20.0), b, 100 * 100, 1.0, &measure).desc->id, "pcss");
 }
 
 TEST(AutoChoice, FeaturesOutsideTheCalibrationTakeTheMostAccurateAndSaySo) {
@@ -489,10 +487,9 @@ TEST_F(AutoRender, TheMeasuredChoiceMeetsItsBudgetAndReportsTheErrorItMeasured) 
         EXPECT_NEAR(choice["measured_error"].get<double>(), rmse, 1e-6) << budget;
         if (choice["rule"] == "measured") EXPECT_LE(rmse, std::stod(budget)) << choice.dump(1);
         EXPECT_EQ(choice["trial"]["size"], nlohmann::json::array({128, 128}));
-        // Every setting predicted cheaper was measured: over the budget, or within it and slower.
-        const double ms = choice["predicted"]["ms"].get<double>();
+        // Every setting was measured: over the budget, or within it and slower.
         for (const auto& a : choice["alternatives"]) {
-            if (a["predicted_ms"].get<double>() >= ms || a["rejected"] == "chosen") continue;
+            if (a["rejected"] == "chosen") continue;
             ASSERT_TRUE(a.contains("measured_error")) << a.dump();
             if (a["measured_error"].get<double>() <= std::stod(budget))
                 EXPECT_GE(a["measured_ms"].get<double>(), choice["measured_ms"].get<double>()) << a.dump();
