@@ -18,6 +18,8 @@ constexpr int kTrialPixels = 256 * 256;
 // The reference's rays per pixel: as the bench's and the calibration's (raytraced's default, M =
 // 256 stratified rays; its noise stays under 0.002 RMSE on the scenes in assets/).
 constexpr int kTrialRays = 256;
+// Frames timed per setting within the budget (after the frame that measured its error).
+constexpr int kTimedFrames = 3;
 struct TrialSize {
     int width = 1, height = 1;
 };
@@ -47,7 +49,7 @@ struct TrialLog {
 // framebuffers, viewport and program. Results are cached by the scene's content, the lights, the
 // camera, the trial size and the time (the last few frames' keys), so a budget moved or the same
 // view asked again renders nothing.
-// `timed`: also its shadow_ms at the trial size, the faster of two more frames with every pass run
+// `timed`: also its shadow_ms at the trial size, the fastest of kTimedFrames more frames with every pass run
 // (MeasuredError::ms; the trial's renderer runs without reuse and times on the CPU, as the bench).
 MeasuredError measureSettingError(const TrialInputs& in, const CalibrationSetting& setting, TrialLog& log, bool timed);
 // Frees the trial's renderers (their GL textures and the scene's GPU copy); the measured errors stay
