@@ -345,11 +345,14 @@ void Window::drawUi() {
                 tooltip(a.value("why", std::string()).c_str());
                 if (a.contains("predicted")) {
                     char line[200];
-                    if (a.contains("measured_error"))  // measured on the view at the trial size (trial.h)
+                    if (a.contains("measured_error") && a.contains("measured_ms"))  // measured on the view (trial.h)
                         std::snprintf(line, sizeof line, "   trial: RMSE %.4f in %.1f ms (budget %.4f; predicted %.4f)",
-                                      a.value("measured_error", 0.0),
-                                      a.value("measured_ms", a["predicted"].value("ms", 0.0)),
+                                      a.value("measured_error", 0.0), a.value("measured_ms", 0.0),
                                       a["budget"].value("error", 0.0), a["predicted"].value("error", 0.0));
+                    else if (a.contains("measured_error"))  // over the budget: its error measured, not its time
+                        std::snprintf(line, sizeof line, "   trial: RMSE %.4f (budget %.4f); predicted %.1f ms",
+                                      a.value("measured_error", 0.0), a["budget"].value("error", 0.0),
+                                      a["predicted"].value("ms", 0.0));
                     else
                         std::snprintf(line, sizeof line, "   predicted RMSE %.4f in %.1f ms (budget %.4f)",
                                       a["predicted"].value("error", 0.0), a["predicted"].value("ms", 0.0),
