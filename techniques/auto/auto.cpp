@@ -556,7 +556,7 @@ std::string sharedBudgetText(const AutoBudget& budget, const LightFeatures& feat
 void chooseMeasured(const Calibration& cal, const LightFeatures& features, const AutoBudget& budget,
                     const std::vector<Prediction>& predictions, const MeasureSetting& measure, double machineScale,
                     TechniqueChoice& choice,
-                               const std::function<void(const TechniqueDesc*, const std::vector<std::pair<std::string, std::string>>&)>& pick) {
+                    const std::function<void(const TechniqueDesc*, const std::vector<std::pair<std::string, std::string>>&)>& pick) {
     const std::string metric = budget.penumbra ? "penumbra RMSE" : "RMSE";
     const bool timed = budget.timeMs > 0.0;
     std::vector<size_t> order;
@@ -600,7 +600,7 @@ void chooseMeasured(const Calibration& cal, const LightFeatures& features, const
         else if (timed && p.ms > budget.timeMs)
             rejected = "predicted " + fmt("%.2f", p.ms) + " ms > time budget " + fmt("%.2f", budget.timeMs) + " ms";
         else
-            rejected = "predicted " + fmt("%.2f", p.ms) + " ms, slower than the chosen one (not measured)";
+            rejected = "not measured";
         nlohmann::json a = {{"setting", cal.settings[s].describe()},
                             {"predicted_error", p.error},
                             {"predicted_ms", p.ms},
@@ -788,10 +788,10 @@ const TechniqueDesc& autoTechnique() {
                    "accurate setting within this one";
         d.params.push_back(time);
         ParamDesc measured{"measure", "", ParamDesc::Type::Bool, "", 1.0, 0, 1, 1,
-                           "measure before trusting: the calibration ranks the settings by predicted time, and each is "
-                           "rendered on this light at a trial size (at most 256x256 pixels) against a ray-traced "
-                           "reference (256 rays), cheapest first, until one meets the budget (cached per view); off: "
-                           "the calibration's prediction alone decides"};
+                           "measure before trusting: every setting within the time budget is rendered on this light "
+                           "at a trial size (at most 256x256 pixels) against a ray-traced reference (256 rays), those "
+                           "within the error budget are timed, and the fastest runs (cached per view; the calibration "
+                           "orders them and scales their times); off: the calibration's prediction alone decides"};
         d.params.push_back(measured);
         d.choose = [](const ChoiceInputs& in) {
             const LightFeatures f =
