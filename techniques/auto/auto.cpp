@@ -833,7 +833,10 @@ const TechniqueDesc& autoTechnique() {
             trial.camera = *in.camera;
             trial.width = in.width;
             trial.height = in.height;
-            trial.time = in.time;
+            // At the scene's first pose, as the penumbra fraction and the shares: a choice is not made
+            // again as objects move, and one trial per view is kept whatever the frame's time (the
+            // soak's rounds at later times otherwise measured again, and resident memory grew).
+            trial.time = 0.0;
             TrialLog log;
             const int trialPixels = trialSize(in.width, in.height).width * trialSize(in.width, in.height).height;
             const MeasureSetting measure = [&](size_t s, bool timed) -> std::optional<MeasuredError> {
