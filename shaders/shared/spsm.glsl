@@ -307,14 +307,17 @@ struct SpsmEdge {
     int kept;         // vertices kept after the bisector and occlusion tests
 };
 
-// The distinct triangles among the occluding neighbours (bit k of `occluding` set), in the order of
-// k. Neighbouring texels often store the same triangle (a large caster spans many texels), and the
-// reconstruction's work grows with the square of the triangles it links (every kept vertex is
-// tested against every occluding edge): on a GPU or a SIMD CPU the loops below run as many times
-// as the lane with the most distinct triangles needs, a few instead of nine. A duplicate adds
-// nothing: the same vertices and the same edges.
+// The distinct triangles among the occluding neighbours (bit k of `occluding` set): bit k of `mask`
+// is set for the first of each (in the order of k), t[k] = tris[k] in place. Neighbouring texels
+// often store the same triangle (a large caster spans many texels), and the reconstruction's work
+// grows with the square of the triangles it links (every kept vertex is tested against every
+// occluding edge); a duplicate adds nothing: the same vertices and the same edges. The loops below
+// run over the nine places with the mask rather than over a compacted list: llvmpipe keeps a
+// local array written at a varying index in memory and reads it lane by lane, which cost more than
+// the skipped places (measured: techniques/spsm/README.md).
 struct SpsmOccluders {
     SpsmTriangle t[9];
+    uint mask;
     int count;
 };
 
@@ -324,17 +327,22 @@ SHARED_FN bool spsmSameTriangle(SpsmTriangle p, SpsmTriangle q) {
 
 SHARED_FN SpsmOccluders spsmDistinctOccluders(SpsmTriangle tris[9], uint occluding) {
     SpsmOccluders o;
+    o.mask = 0u;
     o.count = 0;
     for (int k = 0; k < 9; ++k) {
         o.t[k] = tris[k];
         bool fresh = ((occluding >> uint(k)) & 1u) != 0u;
-        for (int j = 0; j < o.count; ++j) fresh = fresh && !spsmSameTriangle(o.t[j], tris[k]);
+        for (int j = 0; j < k; ++j) fresh = fresh && !(((o.mask >> uint(j)) & 1u) != 0u && spsmSameTriangle(tris[j], tris[k]));
         if (fresh) {
-            o.t[o.count] = tris[k];
+            o.mask = o.mask | (1u << uint(k));
             o.count += 1;
         }
     }
     return o;
+}
+
+SHARED_FN bool spsmOccluderUsed(SpsmOccluders o, int k) {
+    return ((o.mask >> uint(k)) & 1u) != 0u;
 }
 
 // Whether a vertex v of an occluding triangle, at tangent coordinate sv and normal distance dv,
@@ -344,7 +352,7 @@ SHARED_FN bool spsmVertexHidden(SpsmOccluders o, vec2 v, vec2 centre, vec2 n, ve
     float sv = dot(v - centre, tangent);
     float dv = dot(v - centre, n);
     bool hidden = false;
-    for (int k = 0; k < o.count; ++k) {
+    for (int k = 0; k < 9; ++k) {
         for (int e = 0; e < 3; ++e) {
             vec2 p = spsmVertex(o.t[k], e);
             vec2 q = spsmVertex(o.t[k], (e + 1) % 3);
@@ -352,7 +360,7 @@ SHARED_FN bool spsmVertexHidden(SpsmOccluders o, vec2 v, vec2 centre, vec2 n, ve
             float sq = dot(q - centre, tangent);
             float lo = min(sp, sq);
             float hi = max(sp, sq);
-            if (sv > lo + 1e-4f && sv < hi - 1e-4f) {
+            if (spsmOccluderUsed(o, k) && sv > lo + 1e-4f && sv < hi - 1e-4f) {
                 float dp = dot(p - centre, n);
                 float dq = dot(q - centre, n);
                 float d = dp + (dq - dp) * (sv - sp) / (sq - sp);
@@ -371,9 +379,9 @@ SHARED_FN float spsmExtendFromVertex(SpsmOccluders o, vec2 v, float sx, vec2 cen
     float sv = dot(v - centre, tangent);
     float dv = dot(v - centre, n);
     float best = SPSM_FAR;
-    for (int k = 0; k < o.count; ++k) {
+    for (int k = 0; k < 9; ++k) {
         for (int i = 0; i < 3; ++i) {
-            if (length(spsmVertex(o.t[k], i) - v) < 1e-5f) {
+            if (spsmOccluderUsed(o, k) && length(spsmVertex(o.t[k], i) - v) < 1e-5f) {
                 for (int j = 1; j < 3; ++j) {
                     vec2 w = spsmVertex(o.t[k], (i + j) % 3);
                     float sw = dot(w - centre, tangent);
@@ -414,41 +422,44 @@ SHARED_FN SpsmEdge spsmReconstructEdge(SpsmTriangle tris[9], uint occluding, vec
     r.normal = n;
     float sx = dot(x - centre, tangent);
     r.dPoint = dot(x - centre, n);
-    // The kept vertices (at most 27: three per distinct occluding triangle).
+    // The kept vertices (three per distinct occluding triangle at most), and among them, in the
+    // order of k and i, the nearest on each side of x along the tangent (the paper's linking of
+    // edge vertices: the segment joining them is the edge at sx) and the nearest to sx overall
+    // (for the one-sided case).
     SpsmOccluders o = spsmDistinctOccluders(tris, occluding);
-    vec2 kept[27];
     int count = 0;
-    for (int k = 0; k < o.count; ++k) {
+    vec2 left = centre;
+    vec2 right = centre;
+    vec2 nearestVertex = centre;
+    float bestLeft = -SPSM_FAR;
+    float bestRight = SPSM_FAR;
+    float nearest = SPSM_FAR;
+    for (int k = 0; k < 9; ++k) {
         for (int i = 0; i < 3; ++i) {
             vec2 v = spsmVertex(o.t[k], i);
             vec2 p = spsmVertex(o.t[k], (i + 1) % 3);
             vec2 q = spsmVertex(o.t[k], (i + 2) % 3);
             vec2 bisector = normalize(p - v) + normalize(q - v);
             float facing = dot(bisector, n) / max(length(bisector), 1e-20f);
-            if (facing > -0.5f && !spsmVertexHidden(o, v, centre, n, tangent)) {
-                kept[count] = v;
+            if (spsmOccluderUsed(o, k) && facing > -0.5f && !spsmVertexHidden(o, v, centre, n, tangent)) {
                 count += 1;
+                float si = dot(v - centre, tangent);
+                if (si <= sx && si > bestLeft) {
+                    bestLeft = si;
+                    left = v;
+                }
+                if (si >= sx && si < bestRight) {
+                    bestRight = si;
+                    right = v;
+                }
+                if (abs(si - sx) < nearest) {
+                    nearest = abs(si - sx);
+                    nearestVertex = v;
+                }
             }
         }
     }
     r.kept = count;
-    // The edge at sx: the segment joining the nearest kept vertex on each side of x along the
-    // tangent (the paper's linking of edge vertices).
-    vec2 left = centre;
-    vec2 right = centre;
-    float bestLeft = -SPSM_FAR;
-    float bestRight = SPSM_FAR;
-    for (int i = 0; i < count; ++i) {
-        float si = dot(kept[i] - centre, tangent);
-        if (si <= sx && si > bestLeft) {
-            bestLeft = si;
-            left = kept[i];
-        }
-        if (si >= sx && si < bestRight) {
-            bestRight = si;
-            right = kept[i];
-        }
-    }
     bool found = bestLeft > -SPSM_FAR && bestRight < SPSM_FAR;
     float dEdge = SPSM_FAR;
     if (found) {
@@ -459,17 +470,8 @@ SHARED_FN SpsmEdge spsmReconstructEdge(SpsmTriangle tris[9], uint occluding, vec
     if (!found) {
         // All kept vertices on one side of x: extend from the one nearest along the tangent.
         if (count == 0) return r;
-        int nearest = 0;
-        float best = SPSM_FAR;
-        for (int i = 0; i < count; ++i) {
-            float d = abs(dot(kept[i] - centre, tangent) - sx);
-            if (d < best) {
-                best = d;
-                nearest = i;
-            }
-        }
-        left = kept[nearest];
-        right = kept[nearest];
+        left = nearestVertex;
+        right = nearestVertex;
         dEdge = spsmExtendFromVertex(o, left, sx, centre, n, tangent);
     }
     r.decided = 1;

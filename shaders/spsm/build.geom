@@ -114,7 +114,14 @@ void main() {
     int count = count3;
     float lo = -SPSM_MARGIN + 1e-3;
     float hi = smSize + SPSM_MARGIN - 1e-3;
-    for (int side = 0; side < 4; ++side) {
+    // A polygon inside the square needs no clipping: the sides' loop runs 0 times (llvmpipe runs a
+    // geometry shader over several primitives in lock-step and leaves a loop only when none needs
+    // another trip: almost every caster's triangle is inside).
+    bool inside = true;
+    for (int i = 0; i < count3; ++i)
+        inside = inside && poly[i].x >= lo && poly[i].x <= hi && poly[i].y >= lo && poly[i].y <= hi;
+    int sides = inside ? 0 : 4;
+    for (int side = 0; side < sides; ++side) {
         int kept = 0;
         for (int i = 0; i < count; ++i) {
             vec3 p = poly[i];

@@ -76,56 +76,60 @@ private:
     GLuint fboTexture_ = 0, fboDepth_ = 0;
 };
 
-// Pass 2: the look-up, in two draws: every pixel against its texel's triangle, then the undecided
-// ones (marked by depth 0) against the neighbourhood and the reconstructed edge.
+// Pass 2: the look-up, in five dispatches (shaders/spsm/lookup.comp): every pixel against its
+// texel's triangle, the undecided ones appended to list 1; list 1 against the neighbourhood, the
+// still undecided appended to list 2; list 2 by the reconstructed edge (steps 2 and 4 write the
+// indirect dispatches' arguments).
 class LookupPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
-        Texture& visibility = ctx.texture("visibility");
-        Texture& branches = ctx.texture("spsm_branch");
-        Texture& marks = ctx.texture("spsm_undecided");
-        if (fboTexture_ != visibility.id() || fboBranch_ != branches.id() || fboMarks_ != marks.id()) {
-            fbo_ = Framebuffer({&visibility, &branches}, &marks);
-            fboTexture_ = visibility.id();
-            fboBranch_ = branches.id();
-            fboMarks_ = marks.id();
-        }
+        // Under refineFrame's bands (a scissor, which compute ignores) step 1 runs over the band's
+        // pixels, and the lists hold only theirs.
+        GLint box[4] = {0, 0, ctx.width(), ctx.height()};
+        if (glIsEnabled(GL_SCISSOR_TEST)) glGetIntegerv(GL_SCISSOR_BOX, box);
+        const glm::ivec4 band(box[0], box[1], box[0] + box[2], box[1] + box[3]);
+        const GLuint counts = ctx.buffer("spsm.counts");
+        glClearNamedBufferData(counts, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ctx.buffer("spsm.list1"));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ctx.buffer("spsm.list2"));
         const Texture& map = ctx.texture("spsm");
-        fbo_.bind(ctx.width(), ctx.height());
-        for (int draw = 0; draw < 2; ++draw) {
-            std::vector<std::string> defines;
-            if (draw == 1) defines.push_back("NEIGHBOURS");
-            const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "spsm/lookup.frag", defines);
+        const int lastStep = ctx.paramBool("reconstruction") ? 5 : 3;
+        for (int step = 1; step <= lastStep; ++step) {
+            const ShaderProgram& program =
+                ctx.programs().compute("spsm/lookup.comp", {"LOOKUP_STEP " + std::to_string(step)});
             program.use();
+            if (step == 2 || step == 4) {
+                program.dispatch(1);
+                memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+                continue;
+            }
             setShadowLookupUniforms(program, ctx.lightView(), map.width(), ctx.light());
             program.set("biasConstTexels", float(ctx.param("bias_const")));
             program.set("biasSlopeTexels", float(ctx.param("bias_slope")));
-            if (draw == 1) {
-                program.set("neighbourhood", ctx.paramInt("neighbourhood"));
-                program.set("reconstruction", ctx.paramBool("reconstruction") ? 1 : 0);
-            }
             ctx.bindGBuffer(program);
             glBindTextureUnit(3, map.id());
             program.set("spsmMap", 3);
-            glEnable(GL_DEPTH_TEST);
-            if (draw == 0) {
-                glDepthFunc(GL_ALWAYS);  // writes 1 where decided, 0 where the second draw must run
-                glDepthMask(GL_TRUE);
+            bindImage(0, ctx.texture("visibility"), 0, GL_WRITE_ONLY);
+            bindImage(1, ctx.texture("spsm_branch"), 0, GL_WRITE_ONLY);
+            if (step == 1) {
+                program.set("band", band);
+                program.dispatch(GLuint((band.z - band.x + 7) / 8), GLuint((band.w - band.y + 7) / 8));
             } else {
-                glDepthFunc(GL_GREATER);  // the full-screen triangle's 0.5 passes only over the 0 marks
-                glDepthMask(GL_FALSE);
+                if (step == 3) {
+                    program.set("neighbourhood", ctx.paramInt("neighbourhood"));
+                    program.set("reconstruction", ctx.paramBool("reconstruction") ? 1 : 0);
+                }
+                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, counts);
+                glDispatchComputeIndirect(GLintptr((step == 3 ? 1 : 5) * sizeof(GLuint)));
+                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
             }
-            drawFullscreenTriangle();
+            memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         }
-        glDepthMask(GL_TRUE);
-        glDepthFunc(GL_LESS);
-        glDisable(GL_DEPTH_TEST);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        for (GLuint unit = 0; unit < 3; ++unit) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unit, 0);
+        memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                      GL_FRAMEBUFFER_BARRIER_BIT);
     }
-
-private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0, fboBranch_ = 0, fboMarks_ = 0;
 };
 
 // The light-view point of SPSM-space texel coordinate x at depth z, and in world space.
@@ -181,7 +185,7 @@ public:
     }
 };
 
-// Which texels' triangles a receiver's look-up reads, and what it decides (lookup.frag, on the CPU).
+// Which texels' triangles a receiver's look-up reads, and what it decides (lookup.comp, on the CPU).
 uint32_t wordAt(const std::vector<uint32_t>& words, int size, glm::ivec2 t, int c) {
     return words[(size_t(t.y) * size_t(size) + size_t(t.x)) * 4 + size_t(c)];
 }
@@ -452,16 +456,34 @@ const TechniqueDesc& spsmTechnique() {
 
         PassDesc lookup;
         lookup.name = "visibility";
-        lookup.doc = "per receiver: the texel's triangle, then the k x k neighbours' (only where undecided), then the "
-                     "reconstructed edge";
+        lookup.doc = "per receiver: the texel's triangle; the pixels it leaves undecided listed, and only those tested "
+                     "against the k x k neighbours' triangles, then the reconstructed edge";
         lookup.reads = {"gbuffer", "light", "spsm", "param:bias_const", "param:bias_slope", "param:neighbourhood",
                         "param:reconstruction"};
+        ResourceDesc counts;
+        counts.name = "spsm.counts";
+        counts.kind = ResourceKind::StorageBuffer;
+        counts.size = SizeRule::fixed(8, 1);
+        counts.elementBytes = 4;
+        counts.scratch = true;
+        counts.doc = "[0] pixels the texel's own triangle left undecided (spsm.list1), [1-3] the neighbourhood "
+                     "step's dispatch, [4] pixels the neighbourhood left undecided (spsm.list2), [5-7] the "
+                     "reconstruction step's dispatch";
+        ResourceDesc list1 = counts;
+        list1.name = "spsm.list1";
+        list1.size = SizeRule::frame();
+        list1.doc = "the pixels the texel's own triangle left undecided, x | y << 16, in the order the atomic counter "
+                    "gave them";
+        list1.unordered = true;
+        list1.scratch = true;  // each execution (each of refineFrame's bands) fills it anew
+        ResourceDesc list2 = list1;
+        list2.name = "spsm.list2";
+        list2.doc = "the pixels the k x k neighbourhood left undecided (the reconstruction's), x | y << 16, in the "
+                    "order the atomic counter gave them";
         lookup.creates = {visibilityResource(),
                           ResourceDesc::texture("spsm_branch", Format::R32F, SizeRule::frame(),
                                                 "the look-up step that decided each pixel (shaders/spsm/branches.glsl)"),
-                          ResourceDesc::texture("spsm_undecided", Format::DEPTH32F, SizeRule::frame(),
-                                                "0 where the texel's triangle did not decide (the second draw runs "
-                                                "there), 1 elsewhere (scratch)")};
+                          counts, list1, list2};
         lookup.create = [] { return std::make_unique<LookupPass>(); };
 
         PassDesc stored;
@@ -488,9 +510,9 @@ const TechniqueDesc& spsmTechnique() {
 
         CounterDesc counter;
         counter.name = "spsm";
-        counter.doc = "how the build rasterized conservatively, the SPSM's memory, and the pixels each look-up step "
-                      "decided";
-        counter.reads = {"spsm", "spsm_branch", "param:conservative"};
+        counter.doc = "how the build rasterized conservatively, the SPSM's memory, the pixels each look-up step "
+                      "decided, and the pixels each step ran on (step_pixels: every pixel, then the lists)";
+        counter.reads = {"spsm", "spsm_branch", "spsm.counts", "param:conservative"};
         counter.count = [](PassContext& ctx) {
             nlohmann::json j;
             j["rasterization"] = ctx.paramBool("conservative") ? spsmConservativeMethod() : "centre sampling";
@@ -505,6 +527,12 @@ const TechniqueDesc& spsmTechnique() {
             nlohmann::json pixels;
             for (size_t k = 1; k < counts.size(); ++k) pixels[spsmBranches()[k].name] = counts[k];
             j["pixels"] = pixels;
+            // How many pixels each look-up step ran on (lookup.comp's lists).
+            std::array<GLuint, 8> lists{};
+            glGetNamedBufferSubData(ctx.buffer("spsm.counts"), 0, GLsizeiptr(sizeof lists), lists.data());
+            j["step_pixels"] = {{"texel", size_t(ctx.width()) * size_t(ctx.height())},
+                                {"neighbourhood", lists[0]},
+                                {"reconstruction", lists[4]}};
             return j;
         };
         d.counters = {counter};

@@ -21,7 +21,7 @@ const std::array<SpsmBranch, 9>& spsmBranches();
 // (Hasselgren et al. 2005's bounding triangle, shaders/spsm/build.geom). Needs a current context.
 std::string spsmConservativeMethod();
 
-// The CPU mirror of the look-up (shaders/spsm/lookup.frag) for one receiver, from the stored
+// The CPU mirror of the look-up (shaders/spsm/lookup.comp) for one receiver, from the stored
 // triangles of the map (`words`: RGBA32UI texels, GL row order, `size` x `size`): what the --pixel
 // record reports and tests compare with the GPU.
 struct SpsmLookup {

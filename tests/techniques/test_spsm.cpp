@@ -3,6 +3,7 @@
 // reconstruction on synthetic 3x3 neighbourhoods), the same GLSL on the GPU on a grid, the
 // conservative rasterization of the build against a CPU coverage computation on random triangles,
 // the CPU mirror of the look-up against the GPU, and end-to-end renders against exact hard shadows.
+#include <bitset>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -229,7 +230,7 @@ TEST(SpsmMath, VerticesHiddenBehindAnEdgeAreDiscarded) {
 }
 
 // The reconstruction links the distinct occluding triangles only: neighbouring texels storing the
-// same triangle add no vertex and no edge, and its loops run over a few triangles instead of nine.
+// same triangle add no vertex and no edge. The mask marks the first of each, in place.
 TEST(SpsmMath, DistinctOccludersKeepEachOccludingTriangleOnce) {
     Neighbourhood n = straightEdge(8.2f, 0.3f);  // one triangle per column, repeated in its rows
     SpsmOccluders o = spsmDistinctOccluders(n.tris, n.occluding);
@@ -241,8 +242,13 @@ TEST(SpsmMath, DistinctOccludersKeepEachOccludingTriangleOnce) {
     }
     EXPECT_EQ(o.count, expected);
     EXPECT_LE(o.count, 3) << "three columns";
-    for (int i = 0; i < o.count; ++i)
-        for (int j = 0; j < i; ++j) EXPECT_FALSE(spsmSameTriangle(o.t[i], o.t[j]));
+    for (int i = 0; i < 9; ++i) {
+        EXPECT_TRUE(spsmSameTriangle(o.t[i], n.tris[i])) << "in place";
+        EXPECT_TRUE(!spsmOccluderUsed(o, i) || ((n.occluding >> unsigned(i)) & 1u)) << "only occluders";
+        for (int j = 0; j < i; ++j)
+            if (spsmOccluderUsed(o, i) && spsmOccluderUsed(o, j)) EXPECT_FALSE(spsmSameTriangle(o.t[i], o.t[j]));
+    }
+    EXPECT_EQ(std::bitset<9>(o.mask).count(), size_t(o.count));
     Neighbourhood one;
     for (int k = 0; k < 9; ++k) one.tris[k] = flat(vec2(4.0f, 8.0f), vec2(13.0f, 8.0f), vec2(8.5f, 16.0f), 2.0f);
     EXPECT_EQ(spsmDistinctOccluders(one.tris, maskOf({5, 6, 7, 8})).count, 1);
@@ -668,6 +674,44 @@ TEST_F(SpsmRender, AnAreaLightIsTakenAtItsCentre) {
 
 // The SPSM's memory in --stats: 16 bytes a texel (the paper: 4 MB at 512^2), and how the build
 // rasterized conservatively on this driver.
+// The look-up's later steps run over lists of the pixels the step before left undecided
+// (lookup.comp): the neighbourhood step over every pixel whose own texel did not decide it, the
+// reconstruction over those whose 3x3 depth comparisons disagree. Counted against the branches
+// each pixel ends in, on a scene with many small triangles (plant) and point light, sm 256: the
+// lists hold no more and no fewer pixels than the steps need.
+TEST_F(SpsmRender, EachStepRunsOnlyOnThePixelsTheStepBeforeLeftUndecided) {
+    Scene scene = loadScene("plant");
+    for (int reconstruction : {1, 0}) {
+        SCOPED_TRACE(reconstruction);
+        RenderOptions o;
+        o.width = o.height = 256;
+        o.technique = "spsm";
+        o.lightSize = 0.0f;
+        o.sets = {{"sm_size", "256"}, {"reconstruction", std::to_string(reconstruction)}};
+        Renderer r(scene, o);
+        r.renderFrame(0, {"visibility"});
+        nlohmann::json stats = r.stats({}, 1, 1);
+        const nlohmann::json& c = stats["lights"][0]["counters"]["spsm"];
+        auto pixels = [&](const char* branch) { return c["pixels"][branch].get<size_t>(); };
+        const nlohmann::json& steps = c["step_pixels"];
+        EXPECT_EQ(steps["texel"].get<size_t>(), 256u * 256u);
+        size_t neighbourhood = steps["neighbourhood"].get<size_t>();
+        size_t rebuilt = steps["reconstruction"].get<size_t>();
+        EXPECT_EQ(neighbourhood, pixels("neighbour_hit") + pixels("neighbour_cover") + pixels("reconstructed_edge") +
+                                     pixels("fallback"));
+        EXPECT_GT(neighbourhood, 256u * 256u / 100) << "plant's leaves leave many pixels to the neighbourhood";
+        EXPECT_LT(neighbourhood, 256u * 256u / 4) << "most pixels are decided by their own texel";
+        if (reconstruction == 1) {
+            EXPECT_GE(rebuilt, pixels("reconstructed_edge"));
+            EXPECT_LE(rebuilt, pixels("reconstructed_edge") + pixels("fallback"));
+            EXPECT_GT(rebuilt, 0u);
+        } else {
+            EXPECT_EQ(rebuilt, 0u);
+            EXPECT_EQ(pixels("reconstructed_edge"), 0u);
+        }
+    }
+}
+
 TEST_F(SpsmRender, StatsReportMemoryAndTheRasterization) {
     Scene scene = loadScene("square-occluder");
     RenderOptions o;

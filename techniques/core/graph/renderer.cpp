@@ -61,13 +61,13 @@ bool isFrameTexture(const TechniqueDesc& desc, const std::string& name, int dept
     return false;
 }
 
-// A pass refineFrame may run in bands of rows: everything it writes is a frame-size texture, so a
-// scissor bounds its work (clears and draws honour it; its fragments depend on their own pixel's
+// A pass refineFrame may run in bands of rows: everything it writes is a frame-size texture (or its
+// own scratch buffer, filled anew by every band), so a scissor bounds its work (clears and draws honour it; its fragments depend on their own pixel's
 // inputs or on complete earlier passes).
 bool writesOnlyFrameTextures(const TechniqueDesc& desc, const PassDesc& pass) {
     if (pass.wholeFrame || (pass.creates.empty() && pass.modifies.empty())) return false;
     for (const ResourceDesc& r : pass.creates)
-        if (!isFrameTexture(desc, r.name)) return false;
+        if (!r.scratch && !isFrameTexture(desc, r.name)) return false;
     for (const std::string& m : pass.modifies)
         if (!isFrameTexture(desc, m)) return false;
     return true;

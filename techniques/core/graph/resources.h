@@ -50,6 +50,10 @@ struct ResourceDesc {
     // slots), read by passes whose result does not depend on it; --check-reuse compares it as a
     // multiset of 32-bit words.
     bool unordered = false;
+    // StorageBuffer: the creating pass's working memory, rewritten from scratch by every execution
+    // (spsm's lists of undecided pixels): it does not keep refineFrame from running the pass in
+    // bands, each band filling it anew; a reader (a counter) sees the last execution's.
+    bool scratch = false;
 
     static ResourceDesc texture(const std::string& name, Format format, SizeRule size, const std::string& doc) {
         ResourceDesc d;
