@@ -80,7 +80,11 @@ SHARED_FN SpsmCaseOut spsmCase(int x, int y) {
                                  28u + uint(x % 8), 11u)),
                u.w.y, spsmExtendFromVertex(spsmDistinctOccluders(tris, occluding), spsmVertex(tris[4], 0), 0.3f, vec2(8.5f, 8.5f), n0, tg));
     vec2 v1 = spsmVertex(tris[4], 1);
-    o.j = vec4(v1.x, v1.y, spsmEmpty(o.code) ? 1.0f : 0.0f, spsmEmpty(uvec4(0u, 0u, 0u, 0u)) ? 1.0f : 0.0f);
+    SpsmOccluders distinct = spsmDistinctOccluders(tris, occluding);
+    float used = 0.0f;  // the distinct occluders' places, weighted by place (spsmOccluderUsed)
+    for (int k = 0; k < 9; ++k) used += spsmOccluderUsed(distinct, k) ? float(k + 1) : 0.0f;
+    o.j = vec4(v1.x, v1.y, spsmEmpty(o.code) ? 1.0f : 0.0f,
+               (spsmEmpty(uvec4(0u, 0u, 0u, 0u)) ? 1.0f : 0.0f) + 2.0f * used);
     vec3 edges = spsmEdges(u, p);
     bool insideEdges = spsmInsideEdges(u, spsmEdgeFunction(u.a, u.b, u.c), edges);
     o.k = vec4(edges, (insideEdges ? 1.0f : 0.0f) + (spsmSameTriangle(u, spsmUnpack(spsmPack(u, smSize), smSize)) ? 2.0f : 0.0f));
