@@ -22,38 +22,38 @@ SHARED_FN bool inFrontOfTangentPlane(vec3 receiver, vec3 normal, vec3 lightPoint
 }
 
 // Fraction of the square [-1,1]^2 where g . x + d > 0: the square clipped by the line
-// g . x + d = 0 (one Sutherland-Hodgman step), its area by the shoelace formula over 4.
-// Exact up to rounding; g = 0 gives 1 when d > 0 and 0 otherwise.
+// g . x + d = 0, its area by Green's theorem over the clipped boundary, divided by 4. The boundary
+// is the kept part of each edge a -> b (from a, or from the crossing where the edge enters the
+// half-plane, to b, or to the crossing where it leaves) and the chord along the line from the exit
+// crossing back to the entry crossing; the sum of their cross products is twice the area (the
+// shoelace formula of the Sutherland-Hodgman polygon, the same points in the same order). No
+// local arrays: a SIMD CPU (llvmpipe) spills dynamically indexed arrays to memory, and every pixel
+// of the filtering and back-projection passes runs this. Exact up to rounding; g = 0 gives 1 when
+// d > 0 and 0 otherwise.
+SHARED_FN float squareCornerX(int i) { return (i == 1 || i == 2) ? 1.0f : -1.0f; }
+SHARED_FN float squareCornerY(int i) { return i >= 2 ? 1.0f : -1.0f; }
+
 SHARED_FN float squareFractionInFront(vec2 g, float d) {
-    vec2 corners[4];
-    corners[0] = vec2(-1.0f, -1.0f);
-    corners[1] = vec2(1.0f, -1.0f);
-    corners[2] = vec2(1.0f, 1.0f);
-    corners[3] = vec2(-1.0f, 1.0f);
-    vec2 kept[6];
-    int count = 0;
+    float twiceArea = 0.0f;
+    vec2 exitPoint = vec2(0.0f, 0.0f);
+    vec2 entryPoint = vec2(0.0f, 0.0f);
     for (int i = 0; i < 4; ++i) {
-        vec2 a = corners[i];
-        vec2 b = corners[(i + 1) % 4];
+        vec2 a = vec2(squareCornerX(i), squareCornerY(i));
+        vec2 b = vec2(squareCornerX((i + 1) % 4), squareCornerY((i + 1) % 4));
         float fa = dot(g, a) + d;
         float fb = dot(g, b) + d;
-        if (fa > 0.0f) {
-            kept[count] = a;
-            count += 1;
-        }
-        if ((fa > 0.0f) != (fb > 0.0f)) {
-            // The crossing on a-b; fa != fb here, since exactly one of them is > 0.
-            float s = fa / (fa - fb);
-            kept[count] = a + s * (b - a);
-            count += 1;
-        }
+        bool inA = fa > 0.0f;
+        bool inB = fb > 0.0f;
+        // The crossing on a-b (used only when exactly one end is in front: then fa != fb).
+        float den = fa - fb;
+        vec2 crossing = a + (den != 0.0f ? fa / den : 0.0f) * (b - a);
+        vec2 from = inA ? a : crossing;
+        vec2 to = inB ? b : crossing;
+        if (inA || inB) twiceArea += from.x * to.y - from.y * to.x;
+        if (inA && !inB) exitPoint = crossing;
+        if (!inA && inB) entryPoint = crossing;
     }
-    float twiceArea = 0.0f;
-    for (int i = 0; i < count; ++i) {
-        vec2 a = kept[i];
-        vec2 b = kept[(i + 1) % count];
-        twiceArea += a.x * b.y - a.y * b.x;
-    }
+    twiceArea += exitPoint.x * entryPoint.y - exitPoint.y * entryPoint.x;
     return clamp(0.125f * twiceArea, 0.0f, 1.0f);
 }
 

@@ -825,12 +825,22 @@ void BackprojectionVisibilityPass::setUniforms(PassContext& ctx, const ShaderPro
     }
     program.set("lightWidthWorld", bpLightWidth(bpLightShape(ctx.light()), ctx.light().size));
     program.set("kernelThreshold", float(ctx.param("t_k")));
-    program.set("lightShape", bpLightShape(ctx.light()));
     program.set("lightHalfSize", bpLightHalfSize(ctx.light()));
     program.set("maxKernelTexels", float(ctx.param("max_kernel")));
     setLightFrontUniforms(program, ctx.light());
     if (extra_) extra_(ctx, program);
 }
+
+// The visibility shaders' variant (visibility_common.glsl): the level arithmetic only where
+// light_multires is on, and the light's shape as a constant, so that neither the full-resolution
+// walk nor a square light pays for what it never uses (llvmpipe runs both sides of every branch).
+namespace {
+std::vector<std::string> backprojectionVisibilityDefines(PassContext& ctx) {
+    std::vector<std::string> defines = {"BP_LIGHT_SHAPE " + std::to_string(bpLightShape(ctx.light()))};
+    if (ctx.param("light_multires") != 0.0) defines.push_back("LIGHT_MULTIRES");
+    return defines;
+}
+}  // namespace
 
 void BackprojectionVisibilityPass::execute(PassContext& ctx) {
     if (ctx.applies(kScreenAdaptive)) {
@@ -838,7 +848,7 @@ void BackprojectionVisibilityPass::execute(PassContext& ctx) {
         return;
     }
     Texture& visibility = ctx.texture("visibility");
-    // Two variants (visibility_common.glsl): the level arithmetic only where light_multires is on.
+    // The variant: backprojectionVisibilityDefines.
     const bool multires = ctx.param("light_multires") != 0.0;
     Texture* levels = multires ? &ctx.texture("light_levels") : nullptr;
     GLuint key = visibility.id() ^ (levels ? levels->id() << 16 : 0u);
@@ -847,9 +857,8 @@ void BackprojectionVisibilityPass::execute(PassContext& ctx) {
         else fbo_ = Framebuffer({&visibility}, nullptr);
         fboTexture_ = key;
     }
-    std::vector<std::string> defines;
-    if (multires) defines.push_back("LIGHT_MULTIRES");
-    const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", shader_, defines);
+    const ShaderProgram& program =
+        ctx.programs().get("common/fullscreen.vert", shader_, backprojectionVisibilityDefines(ctx));
     program.use();
     setUniforms(ctx, program);
     fbo_.bind(ctx.width(), ctx.height());
@@ -893,9 +902,7 @@ void BackprojectionVisibilityPass::executeSparse(PassContext& ctx) {
     args.set("blockCount", blockCount);
     args.dispatch(1);
     memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-    std::vector<std::string> defines;
-    if (multires) defines.push_back("LIGHT_MULTIRES");
-    const ShaderProgram& program = ctx.programs().compute(sparseShader_, defines);
+    const ShaderProgram& program = ctx.programs().compute(sparseShader_, backprojectionVisibilityDefines(ctx));
     program.use();
     setUniforms(ctx, program);
     program.set("band", band);
