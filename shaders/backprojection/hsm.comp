@@ -12,9 +12,11 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(rg32f, binding = 1) uniform writeonly image2D destination;  // level k
 #ifdef MIN_LEVELS
-// light_multires: the min depths again, as mip level k of the one-channel pyramid whose mip 0 is the
-// shadow map itself, so the visibility walk reads any level with one fetch (visibility_common.glsl).
+// light_multires: the min depths again, into the second layer of the `depth_levels` atlas at
+// x = atlasX (hsmLevelAtlasX: the levels side by side; its first layer is the shadow map itself),
+// so the visibility walk reads any level with one fetch at level of detail 0 (visibility_common.glsl).
 layout(r32f, binding = 2) uniform writeonly image2D minDestination;
+uniform int atlasX;
 #endif
 #ifdef FIRST_LEVEL
 uniform sampler2D shadowMap;  // light-view depth z (R32F)
@@ -51,6 +53,6 @@ void main() {
         }
     imageStore(destination, p, vec4(range, 0.0, 0.0));
 #ifdef MIN_LEVELS
-    imageStore(minDestination, p, vec4(range.x, 0.0, 0.0, 0.0));
+    imageStore(minDestination, p + ivec2(atlasX, 0), vec4(range.x, 0.0, 0.0, 0.0));
 #endif
 }

@@ -76,6 +76,24 @@ SHARED_FN int hsmLevelSize(int level, int smSize) {
     return max(1, ((smSize + 1) / 2) >> (level - 1));
 }
 
+// Where HSM level `level` >= 1 starts in the second layer of the `depth_levels` atlas: the levels
+// 1, 2, ... side by side along x from 0 (level k at x = n_1 + ... + n_(k-1), y = 0), so that the
+// visibility walk reads any level with a fetch at level of detail 0 (a mip level chosen per pixel
+// costs llvmpipe a per-lane mip offset and stride on every fetch). With h = ceil(N / 2), n_j =
+// h >> (j - 1) up to the top level, and sum_(i >= 0) floor(x / 2^i) = 2 x - popcount(x), the sum of
+// the first m = level - 1 sizes is 2 h - popcount(h) - (2 (h >> m) - popcount(h >> m)). The levels
+// fit in N x N: their widths sum to at most 2 h - 1 <= N (the top level's 1 included) and each is at
+// most h high (tests/techniques/test_light_levels.cpp checks every N up to 8192). Level 0 (the map) is
+// the first layer; 0 is returned for it.
+SHARED_FN int hsmLevelAtlasX(int level, int smSize) {
+    if (level <= 1) {
+        return 0;
+    }
+    int h = (smSize + 1) / 2;
+    int rest = h >> (level - 1);
+    return 2 * h - bitCount(h) - (2 * rest - bitCount(rest));
+}
+
 // Level-0 texels overlapped by a kernel of width kernelTexels centred at `centre` (texel
 // coordinates): (x0, y0, x1, y1), inclusive, clamped to the map [0, smSize - 1].
 SHARED_FN ivec4 kernelTexelRange(vec2 centre, float kernelTexels, int smSize) {

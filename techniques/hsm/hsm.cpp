@@ -26,30 +26,33 @@ public:
     void execute(PassContext& ctx) override {
         Texture& hsm = ctx.texture("hsm");
         const Texture& map = ctx.texture(shadowTestMap(ctx));
-        // light_multires: also "depth_levels", every level's min depth with the map as its mip 0.
+        // light_multires: also "depth_levels", every level's min depth in an atlas of two layers,
+        // the map itself and the HSM levels side by side (hsmLevelAtlasX).
         const bool minLevels = ctx.param("light_multires") != 0.0;
         Texture* depthLevels = minLevels ? &ctx.texture("depth_levels") : nullptr;
         std::vector<std::string> first{"FIRST_LEVEL"}, rest;
         if (minLevels) {
             first.push_back("MIN_LEVELS");
             rest.push_back("MIN_LEVELS");
-            glCopyImageSubData(map.id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthLevels->id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+            glCopyImageSubData(map.id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthLevels->id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0,
                                map.width(), map.height(), 1);
         }
+        const int mapSize = map.width();
         const ShaderProgram& firstProgram = ctx.programs().compute("backprojection/hsm.comp", first);
         glBindTextureUnit(0, map.id());
         firstProgram.set("shadowMap", 0);
         bindImage(1, hsm, 0, GL_WRITE_ONLY);  // HSM level 1
-        // A 1x1 map has one mip, but an HSM level 1 (the same texel): the walk clamps to the last mip.
-        const int depthMips = depthLevels ? depthLevels->levels() : 0;
-        if (depthLevels) bindImage(2, *depthLevels, std::min(1, depthMips - 1), GL_WRITE_ONLY);
+        if (depthLevels) {
+            bindImage(2, *depthLevels, 0, GL_WRITE_ONLY, 1);
+            firstProgram.set("atlasX", hsmLevelAtlasX(1, mapSize));
+        }
         firstProgram.dispatch(GLuint((hsm.width() + 7) / 8), GLuint((hsm.height() + 7) / 8));
         memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         const ShaderProgram& reduce = ctx.programs().compute("backprojection/hsm.comp", rest);
         for (int k = 1; k < hsm.levels(); ++k) {
             bindImage(0, hsm, k - 1, GL_READ_ONLY);
             bindImage(1, hsm, k, GL_WRITE_ONLY);
-            if (depthLevels) bindImage(2, *depthLevels, std::min(k + 1, depthMips - 1), GL_WRITE_ONLY);
+            if (depthLevels) reduce.set("atlasX", hsmLevelAtlasX(k + 1, mapSize));
             reduce.dispatch(GLuint((hsm.width(k) + 7) / 8), GLuint((hsm.height(k) + 7) / 8));
             memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // level k is the next dispatch's source
         }
@@ -147,11 +150,12 @@ PassDesc hsmPass() {
     hsm.kind = ResourceKind::Pyramid;
     hsm.levels = 0;
     ResourceDesc levels = ResourceDesc::texture("depth_levels", Format::R32F, SizeRule::like("shadow_map"),
-                                                "light_multires: the min depth of every HSM level as one pyramid, mip 0 "
-                                                "the shadow map itself, so the visibility walk reads a level with one "
-                                                "fetch (sec. 5.1)");
-    levels.kind = ResourceKind::Pyramid;
-    levels.levels = 0;
+                                                "light_multires: the min depth of every HSM level in one atlas, layer 0 "
+                                                "the shadow map itself, layer 1 the levels 1, 2, ... side by side "
+                                                "(hsmLevelAtlasX), so the visibility walk reads a level with one fetch at "
+                                                "level of detail 0 (sec. 5.1)");
+    levels.kind = ResourceKind::TextureArray;
+    levels.layers = 2;
     levels.appliesWhen = "light_multires == true";
     p.creates = {hsm, levels};
     p.state = PipelineState::fullscreen();
@@ -821,7 +825,6 @@ void BackprojectionVisibilityPass::setUniforms(PassContext& ctx, const ShaderPro
         const Texture& levels = ctx.texture("depth_levels");
         glBindTextureUnit(9, levels.id());
         program.set("depthLevels", 9);
-        program.set("depthLevelsTop", levels.levels() - 1);
     }
     program.set("lightWidthWorld", bpLightWidth(bpLightShape(ctx.light()), ctx.light().size));
     program.set("kernelThreshold", float(ctx.param("t_k")));

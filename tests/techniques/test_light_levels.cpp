@@ -136,12 +136,32 @@ TEST(LightLevels, LevelZeroOcclusionIsTheMapTest) {
     EXPECT_TRUE(bpLevelSampleOccludes(r, 3, t3, zCentre3 - 0.5f, 512.0f, 0.6f));  // a real occluder still is
 }
 
+// The depth_levels atlas (visibility_common.glsl): HSM levels 1 .. top side by side in an N x N layer,
+// level k at x = n_1 + ... + n_(k-1), for every map size the parameter table accepts: the offsets are
+// the running sum of the level sizes, and the levels neither overlap nor leave the layer.
+TEST(LightLevels, AtlasHoldsEveryLevelSideBySide) {
+    for (int n = 1; n <= 8192; ++n) {
+        int x = 0, top = 1;
+        while (hsmLevelSize(top, n) > 1) ++top;  // the HSM's top level: the first 1x1 one
+        for (int level = 1; level <= top; ++level) {
+            ASSERT_EQ(hsmLevelAtlasX(level, n), x) << "N " << n << " level " << level;
+            x += hsmLevelSize(level, n);
+            ASSERT_LE(hsmLevelSize(level, n), n) << "N " << n << " level " << level;
+        }
+        ASSERT_LE(x, n) << "N " << n << ": the levels' widths add up to more than the layer";
+    }
+    EXPECT_EQ(hsmLevelAtlasX(0, 1024), 0);
+    EXPECT_EQ(hsmLevelAtlasX(2, 1024), 512);
+    EXPECT_EQ(hsmLevelAtlasX(3, 1024), 768);
+}
+
 struct MathCase {
     glm::vec4 kernel, depths, hint, receiver, normal;
     glm::ivec4 ints;
 };
 struct MathResult {
     glm::vec4 levels, blend;
+    glm::ivec4 atlas;
 };
 
 class LightLevelsGpu : public testing::GLTest {};
@@ -202,6 +222,8 @@ TEST_F(LightLevelsGpu, SharedMathAgreesWithCpu) {
             EXPECT_EQ(g.blend.y, b.y) << k;
             EXPECT_NEAR(g.blend.z, b.z, 1e-3f) << k;
         }
+        EXPECT_EQ(g.atlas.x, hsmLevelAtlasX(c.ints.y, 7 * c.ints.z + 1)) << k;
+        EXPECT_EQ(g.atlas.y, hsmLevelAtlasX(c.ints.y, 8192)) << k;
         blended += b.z > 0.0f;
         ++compared;
     }

@@ -1,6 +1,6 @@
 // Test-only: the light-space multi-resolution functions of shaders/shared/backprojection.glsl
-// (guennebaud2007 sec. 5.1: eq. 2, eq. 3, the blending pseudo-code, the occluder depth hint and the
-// per-level occlusion test) on a list of cases, compared with the same source compiled as C++ by
+// (guennebaud2007 sec. 5.1: eq. 2, eq. 3, the blending pseudo-code, the occluder depth hint, the
+// per-level occlusion test and the atlas offsets) on a list of cases, compared with the same source compiled as C++ by
 // LightLevelsGpu.SharedMathAgreesWithCpu (tests/techniques/test_light_levels.cpp).
 layout(local_size_x = 64) in;
 #include "../../shared/backprojection.glsl"
@@ -16,6 +16,7 @@ struct Case {
 struct Result {
     vec4 levels;    // lightLevelForKernel, lightLevelContinuous, hint, occludes
     vec4 blend;     // lightLevelBlend(lambda, beta, top)
+    ivec4 atlas;    // hsmLevelAtlasX(level, 7 x + 1), hsmLevelAtlasX(level, 8192)
 };
 layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
 layout(std430, binding = 1) writeonly buffer Results { Result results[]; };
@@ -38,5 +39,6 @@ void main() {
     r.levels = vec4(float(lightLevelForKernel(c.kernel.x, c.kernel.z, top)), lambda,
                     occluderDepthHint(c.depths, c.hint.xy, c.hint.z, c.hint.w), occ ? 1.0 : 0.0);
     r.blend = lightLevelBlend(lambda, c.kernel.w, top).xyzz;
+    r.atlas = ivec4(hsmLevelAtlasX(c.ints.y, 7 * c.ints.z + 1), hsmLevelAtlasX(c.ints.y, 8192), 0, 0);
     results[k] = r;
 }
