@@ -632,9 +632,9 @@ Image renderVisibility(const Scene& scene, const std::string& technique, std::ve
 class SpsmRender : public testing::GLTest {};
 
 // Point light, sm_size 256, 512x512, against raytraced rays = 1 (the exact hard shadow). The issue
-// asks for a tenth of hard's misclassified pixels: met on the plates (measured 4/544 and 29/1828),
-// not on contact's curved meshes (92/776, techniques/spsm/README.md), which is held at its measure
-// with a margin so that a regression fails.
+// asks for a tenth of hard's misclassified pixels: measured 4/544 on square-occluder, 29/1828 on
+// overlapping-occluders and 62/776 on contact, whose curved meshes come closest to the bound
+// (techniques/spsm/README.md).
 TEST_F(SpsmRender, MisclassifiesFarFewerPixelsThanHardAtTheSameMapSize) {
     struct Case {
         const char* scene;
