@@ -30,16 +30,15 @@ SHARED_FN bool inFrontOfTangentPlane(vec3 receiver, vec3 normal, vec3 lightPoint
 // local arrays: a SIMD CPU (llvmpipe) spills dynamically indexed arrays to memory, and every pixel
 // of the filtering and back-projection passes runs this. Exact up to rounding; g = 0 gives 1 when
 // d > 0 and 0 otherwise.
-SHARED_FN float squareCornerX(int i) { return (i == 1 || i == 2) ? 1.0f : -1.0f; }
-SHARED_FN float squareCornerY(int i) { return i >= 2 ? 1.0f : -1.0f; }
-
 SHARED_FN float squareFractionInFront(vec2 g, float d) {
     float twiceArea = 0.0f;
     vec2 exitPoint = vec2(0.0f, 0.0f);
     vec2 entryPoint = vec2(0.0f, 0.0f);
     for (int i = 0; i < 4; ++i) {
-        vec2 a = vec2(squareCornerX(i), squareCornerY(i));
-        vec2 b = vec2(squareCornerX((i + 1) % 4), squareCornerY((i + 1) % 4));
+        // Corners counter-clockwise from (-1, -1): corner k is (k == 1 or 2 ? 1 : -1, k >= 2 ? 1 : -1).
+        int j = (i + 1) % 4;
+        vec2 a = vec2((i == 1 || i == 2) ? 1.0f : -1.0f, i >= 2 ? 1.0f : -1.0f);
+        vec2 b = vec2((j == 1 || j == 2) ? 1.0f : -1.0f, j >= 2 ? 1.0f : -1.0f);
         float fa = dot(g, a) + d;
         float fb = dot(g, b) + d;
         bool inA = fa > 0.0f;

@@ -64,41 +64,41 @@ struct ShadowSamples {
     std::vector<float> area, visibility;
 };
 
-uint64_t mix(uint64_t h, uint64_t v) { return (h ^ v) * 0x100000001B3ull; }
-uint64_t mixFloat(uint64_t h, float f) {
-    uint32_t bits;
-    std::memcpy(&bits, &f, sizeof bits);
-    return mix(h, bits);
-}
-
 }  // namespace
 
+uint64_t mixKey(uint64_t key, uint64_t value) { return (key ^ value) * 0x100000001B3ull; }
+uint64_t mixKey(uint64_t key, float value) {
+    uint32_t bits;
+    std::memcpy(&bits, &value, sizeof bits);
+    return mixKey(key, uint64_t(bits));
+}
+
 uint64_t sceneContentKey(const Scene& scene, double t) {
-    uint64_t key = mix(0xcbf29ce484222325ull, uint64_t(t * 1e6));
+    uint64_t key = mixKey(0xcbf29ce484222325ull, uint64_t(t * 1e6));
     for (const Object& o : scene.objects) {
-        key = mix(key, o.mesh.triangleCount());
-        key = mix(key, o.mesh.positions.size());
+        key = mixKey(key, o.mesh.triangleCount());
+        key = mixKey(key, o.mesh.positions.size());
         if (!o.mesh.positions.empty())
             for (size_t v : {size_t(0), o.mesh.positions.size() / 2, o.mesh.positions.size() - 1})
-                for (int c = 0; c < 3; ++c) key = mixFloat(key, o.mesh.positions[v][c]);
+                for (int c = 0; c < 3; ++c) key = mixKey(key, o.mesh.positions[v][c]);
         const glm::mat4 m = o.worldFromObjectAt(t);
         for (int i = 0; i < 4; ++i)
-            for (int c = 0; c < 4; ++c) key = mixFloat(key, m[i][c]);
-        key = mix(key, uint64_t(o.castsShadows) * 2 + uint64_t(o.receivesShadows));
+            for (int c = 0; c < 4; ++c) key = mixKey(key, m[i][c]);
+        key = mixKey(key, uint64_t(o.castsShadows) * 2 + uint64_t(o.receivesShadows));
     }
     return key;
 }
 
 uint64_t mixLightKey(uint64_t key, const Light& light) {
     for (int c = 0; c < 3; ++c) {
-        key = mixFloat(key, light.position[c]);
-        key = mixFloat(key, light.direction[c]);
-        key = mixFloat(key, light.up[c]);
-        key = mixFloat(key, light.color[c]);
+        key = mixKey(key, light.position[c]);
+        key = mixKey(key, light.direction[c]);
+        key = mixKey(key, light.up[c]);
+        key = mixKey(key, light.color[c]);
     }
-    key = mixFloat(key, light.size);
-    key = mixFloat(key, light.intensity);
-    key = mix(key, uint64_t(light.shape) * 2 + uint64_t(light.castsShadows));
+    key = mixKey(key, light.size);
+    key = mixKey(key, light.intensity);
+    key = mixKey(key, uint64_t(light.shape) * 2 + uint64_t(light.castsShadows));
     return key;
 }
 
@@ -110,8 +110,8 @@ const ShadowSamples& shadowSamples(const Scene& scene, const Light& light, const
     // the region and the time.
     uint64_t key = mixLightKey(sceneContentKey(scene, t), light);
     for (int c = 0; c < 3; ++c) {
-        key = mixFloat(key, region.lo[c]);
-        key = mixFloat(key, region.hi[c]);
+        key = mixKey(key, region.lo[c]);
+        key = mixKey(key, region.hi[c]);
     }
     static std::mutex mutex;
     static std::map<uint64_t, ShadowSamples> cache;

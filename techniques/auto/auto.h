@@ -60,6 +60,9 @@ LightFeatures measureLightFeatures(const Scene& scene, const Light& light, const
 // its address), and a light's pose, shape, size, colour and intensity mixed into a key.
 uint64_t sceneContentKey(const Scene& scene, double t);
 uint64_t mixLightKey(uint64_t key, const Light& light);
+// One value mixed into such a key (FNV-style: xor, then multiply by the FNV prime); a float by its bits.
+uint64_t mixKey(uint64_t key, uint64_t value);
+uint64_t mixKey(uint64_t key, float value);
 
 // Each light's part of a frame's error budget (a light decided by the facts takes its whole budget,
 // it errs only by aliasing): with n lights left to the calibration, light l may err by

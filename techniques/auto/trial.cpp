@@ -67,26 +67,19 @@ uint64_t uses = 0;
 // its lights' trials (the soak's rounds measure nothing again).
 constexpr size_t kKeptTrials = 32;
 
-uint64_t mixBits(uint64_t h, uint64_t v) { return (h ^ v) * 0x100000001B3ull; }
-uint64_t mixF(uint64_t h, float f) {
-    uint32_t bits;
-    std::memcpy(&bits, &f, sizeof bits);
-    return mixBits(h, bits);
-}
-
 uint64_t trialKey(const TrialInputs& in, const TrialSize& size) {
     uint64_t key = sceneContentKey(*in.scene, in.time);
     for (const Light& l : in.lights) key = mixLightKey(key, l);
-    key = mixBits(key, uint64_t(in.light));
+    key = mixKey(key, uint64_t(in.light));
     for (int c = 0; c < 3; ++c) {
-        key = mixF(key, in.camera.position[c]);
-        key = mixF(key, in.camera.target[c]);
-        key = mixF(key, in.camera.up[c]);
+        key = mixKey(key, in.camera.position[c]);
+        key = mixKey(key, in.camera.target[c]);
+        key = mixKey(key, in.camera.up[c]);
     }
-    key = mixF(key, in.camera.fovYDegrees);
-    key = mixF(key, in.camera.nearPlane);
-    key = mixF(key, in.camera.farPlane);
-    key = mixBits(key, uint64_t(size.width) * 8192 + uint64_t(size.height));
+    key = mixKey(key, in.camera.fovYDegrees);
+    key = mixKey(key, in.camera.nearPlane);
+    key = mixKey(key, in.camera.farPlane);
+    key = mixKey(key, uint64_t(size.width) * 8192 + uint64_t(size.height));
     return key;
 }
 
