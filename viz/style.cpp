@@ -396,11 +396,19 @@ void addColourBar(vtkRenderer* r, vtkLookupTable* lut, const std::string& title,
         int rowTop = m.margin;
         if (m.swatch) {
             addSwatch(r, m.margin, m.margin, m.swatch);
+            // "no data" wrapped to what the swatch leaves of a narrow panel; its row as tall as it.
+            const int textX = m.margin + m.swatch + m.margin / 2;
             auto t = barText(kNoData, m.px, false);
+            // (the width wrapTextsToViewports allows a left-aligned text)
+            const std::string noData = wrapText(t->GetTextProperty(), kNoData, std::max(1, W - textX - 4));
+            t->SetInput(noData.c_str());
+            int nw = 0, nh = 0;
+            textExtent(t->GetTextProperty(), noData, nw, nh);
+            const int rowH = std::max({m.swatch, m.labelH, nh});
             t->GetTextProperty()->SetVerticalJustificationToCentered();
-            t->SetPosition(m.margin + m.swatch + m.margin / 2, m.margin + m.swatch / 2);
+            t->SetPosition(textX, m.margin + rowH / 2);
             r->AddActor2D(t);
-            rowTop = m.margin + std::max(m.swatch, m.labelH);
+            rowTop = m.margin + rowH;
         }
         const int y0 = rowTop + m.margin + half, y1 = titleBottom - m.margin / 2 - half;
         addStrip(r, lut, m.margin, y0, m.margin + m.strip, std::max(y1, y0 + 1), false);

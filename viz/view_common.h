@@ -131,9 +131,23 @@ vtkSmartPointer<vtkLookupTable> divergingLut(double maxAbs);
 // Caption text at the bottom-left of a viewport (the text standard's size, style.h textPx).
 vtkSmartPointer<vtkTextActor> captionActor(const std::string& text, int frameHeight);
 // A strip along the bottom of the frame holding the caption (one line per '\n', long lines wrapped
-// to the frame's width, never shrunk); returns its height as a fraction of the frame, for the panels
+// to the frame's width, never shrunk; cut to its first lines only where out.captionMaxShare() asks,
+// see captionStripLayout); returns its height as a fraction of the frame, for the panels
 // to start above it.
 double addCaptionStrip(VtkOffscreen& out, const std::string& caption, bool monospace = false);
+// How addCaptionStrip lays a caption out: the text drawn (wrapped; where the strip would take more
+// than out.captionMaxShare() of the height, its first lines and kCaptionContinues), the strip's
+// share of the height and the text's margin in pixels. For a view that sizes its panels from the
+// strip before drawing it.
+struct CaptionStrip {
+    std::string text;
+    double share = 0.0;
+    int margin = 0;
+    bool cut = false;  // lines were left out (the whole caption is ViewResult::caption)
+};
+CaptionStrip captionStripLayout(const VtkOffscreen& out, const std::string& caption, bool monospace = false);
+// The last line of a caption cut to fit a window cell.
+inline constexpr const char* kCaptionContinues = "... (the rest: hover the view)";
 // Parallel camera of an image panel showing all of a width x height image in a viewport of
 // `viewportAspect` (width / height), with a small margin.
 void fitImage(vtkRenderer* renderer, int width, int height, double viewportAspect);

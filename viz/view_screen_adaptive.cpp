@@ -195,13 +195,7 @@ void buildSkippedPixels(ViewContext& ctx, ViewResult& result) {
     // Picture pixels per frame pixel. Under 1 the panel cannot show every pixel (a nearest sample
     // of the dither pattern): the caption says so, so the counts stay the truth. The strip's height
     // as addCaptionStrip lays it out (the caption wrapped to the width).
-    auto stripShare = [&](const std::string& text) {
-        auto probe = captionActor(text, ctx.out.height());
-        const int margin = std::max(6, textPx(ctx.out.height()) / 3);
-        int w = 0, h = 0;
-        textExtent(probe->GetTextProperty(), wrapText(probe->GetTextProperty(), text, ctx.out.width() - 2 * margin), w, h);
-        return std::min(0.9, double(h + 2 * margin) / ctx.out.height());
-    };
+    auto stripShare = [&](const std::string& text) { return captionStripLayout(ctx.out, text).share; };
     auto magnification = [&](double strip) {
         const double w = split * ctx.out.width(), h = (1.0 - strip) * ctx.out.height();
         const double titleShare = std::min(0.4, 1.6 * textPx(ctx.out.height()) / h);

@@ -269,22 +269,58 @@ vtkSmartPointer<vtkTextActor> titleActor(const std::string& text, int frameHeigh
     return actor;
 }
 
-double addCaptionStrip(VtkOffscreen& out, const std::string& caption, bool monospace) {
+CaptionStrip captionStripLayout(const VtkOffscreen& out, const std::string& caption, bool monospace) {
     // The standard's text size, the caption wrapped to the width (never shrunk under the standard).
     auto text = captionActor(caption, out.height());
     if (monospace) text->GetTextProperty()->SetFontFamilyToCourier();  // columns of figures line up
-    const int margin = std::max(6, textPx(out.height()) / 3);
-    const std::string wrapped = wrapText(text->GetTextProperty(), caption, out.width() - 2 * margin);
-    text->SetInput(wrapped.c_str());
-    int w = 0, h = 0;
-    textExtent(text->GetTextProperty(), wrapped, w, h);
-    const double strip = std::min(0.9, double(h + 2 * margin) / out.height());
+    CaptionStrip c;
+    c.margin = std::max(6, textPx(out.height()) / 3);
+    c.text = wrapText(text->GetTextProperty(), caption, out.width() - 2 * c.margin);
+    auto share = [&](const std::string& t) {
+        int w = 0, h = 0;
+        textExtent(text->GetTextProperty(), t, w, h);
+        return double(h + 2 * c.margin) / out.height();
+    };
+    c.share = share(c.text);
+    // 0.9f is the default: never cut (compared as a float: 0.9f is under the double 0.9).
+    const bool mayCut = out.captionMaxShare() < 0.9f;
+    const double limit = std::clamp(double(out.captionMaxShare()), 0.05, 0.9);
+    if (mayCut && c.share > limit) {
+        // Too tall for the picture (a window cell): the first lines that fit with the note under them.
+        const std::string note = wrapText(text->GetTextProperty(), kCaptionContinues, out.width() - 2 * c.margin);
+        std::vector<std::string> lines;
+        for (size_t at = 0;;) {
+            size_t end = c.text.find('\n', at);
+            lines.push_back(c.text.substr(at, end == std::string::npos ? std::string::npos : end - at));
+            if (end == std::string::npos) break;
+            at = end + 1;
+        }
+        std::string kept;
+        for (size_t n = lines.size(); n-- > 1;) {
+            kept.clear();
+            for (size_t i = 0; i < n; ++i) kept += lines[i] + "\n";
+            if (share(kept + note) <= limit) break;
+        }
+        // Not even one line fits with the note: the note alone (the picture keeps its room).
+        if (share(kept + note) > limit) kept.clear();
+        c.text = kept + note;
+        c.cut = true;
+        c.share = share(c.text);
+    }
+    c.share = std::min(0.9, c.share);
+    return c;
+}
+
+double addCaptionStrip(VtkOffscreen& out, const std::string& caption, bool monospace) {
+    const CaptionStrip c = captionStripLayout(out, caption, monospace);
+    auto text = captionActor(c.text, out.height());
+    if (monospace) text->GetTextProperty()->SetFontFamilyToCourier();
     vtkRenderer* r = out.addRenderer();
-    r->SetViewport(0.0, 0.0, 1.0, strip);
+    r->SetViewport(0.0, 0.0, 1.0, c.share);
     r->SetBackground(0.07, 0.07, 0.08);
-    text->SetPosition(margin, margin);
+    text->SetPosition(c.margin, c.margin);
     r->AddActor2D(text);
-    return strip;
+    return c.share;
 }
 
 void fitImage(vtkRenderer* renderer, int width, int height, double viewportAspect) {
@@ -456,6 +492,7 @@ ViewResult renderView(Renderer& renderer, const Scene& scene, const ViewRequest&
     renderer.writeInternals(ctx.collected_, request.pixel);
 
     out.resize(request.width, request.height);
+    out.setCaptionMaxShare(request.captionMaxShare);
     // A fresh set of renderers for this view.
     while (out.window()->GetRenderers()->GetNumberOfItems() > 0)
         out.window()->RemoveRenderer(out.window()->GetRenderers()->GetFirstRenderer());

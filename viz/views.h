@@ -37,6 +37,11 @@ struct ViewRequest {
     // (0: the technique's default, 1024).
     const Image* reference = nullptr;
     int referenceSamples = 0;
+    // The largest share of the picture's height the caption may take. A caption that needs more
+    // keeps its first lines and ends with a line saying the rest is in the tooltip (the window's
+    // cells: a picture ~200 px high would otherwise hold nothing but its caption; the whole caption is
+    // ViewResult::caption, the cell's tooltip). 0.9, the default, never cuts (headless, figures).
+    float captionMaxShare = 0.9f;
     std::string exportPath;            // the view's data for ParaView (.vtp or .vti, see ViewInfo); "" = none
     OutputSet* outputs = nullptr;      // stages the export files (all-or-nothing); null: written directly
 };

@@ -81,10 +81,17 @@ public:
     // callers stage it through an OutputSet.
     void exportVector(const std::string& path);
 
+    // The largest share of the frame's height a view's caption strip may take (addCaptionStrip,
+    // viz/view_common.h). 0.9 (the default): the caption is wrapped and its strip grows, as in
+    // headless views and figures; the window's small cells ask less (ViewRequest::captionMaxShare).
+    void setCaptionMaxShare(float share) { captionMaxShare_ = share; }
+    float captionMaxShare() const { return captionMaxShare_; }
+
 private:
     void allocateFrame();
     void releaseFrame();
     int width_ = 0, height_ = 0;
+    float captionMaxShare_ = 0.9f;
     struct Impl;
     Impl* impl_ = nullptr;
     unsigned int fbo_ = 0, colorTexture_ = 0, depthBuffer_ = 0;

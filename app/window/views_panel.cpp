@@ -91,6 +91,9 @@ void Window::updateViews() {
         request.azimuth = v->azimuth;
         request.elevation = v->elevation;
         request.zoom = v->zoom;
+        // A cell is a few hundred pixels high: a long caption keeps its first lines (the whole of it
+        // is the cell's tooltip), so the picture keeps at least 60% of the cell.
+        request.captionMaxShare = 0.4f;
         if (error) {
             if (referenceImageGeneration_ != ref().generation()) {
                 referenceImage_ = ref().visibility();

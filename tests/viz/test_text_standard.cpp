@@ -136,6 +136,54 @@ TEST_F(TextStandard, EveryViewAtTwoSizesKeepsTheTextStandard) {
     for (const ViewInfo& v : listViews()) EXPECT_TRUE(covered.count(v.name)) << "view " << v.name << " is not checked";
 }
 
+// The window's cells (~250 x 200 px at 1024x768, ~450 x 350 at 1920x1080) ask for a caption of at most 40% of the picture
+// (ViewRequest::captionMaxShare): a longer one keeps its first lines and ends with
+// kCaptionContinues, the whole caption staying in ViewResult::caption (the cell's tooltip). At the
+// default (0.9, headless) the same caption is drawn whole and takes more than 40%: the cut was
+// needed, and only the window asks for it.
+TEST_F(TextStandard, WindowCellsCutALongCaptionToItsFirstLines) {
+    Scene scene = loadScene("square-occluder");
+    for (const std::string view : {"skipped-pixels", "error", "pull-push"}) {
+        SCOPED_TRACE(view);
+        Renderer renderer(scene, options("ssm-contour"));
+        ViewRequest request;
+        request.view = view;
+        request.referenceSamples = 16;
+        request.width = 320;
+        request.height = 240;
+        // The caption is the text lowest in the picture (its strip runs along the bottom).
+        auto captionBox = [](const ViewResult& r) {
+            TextBox lowest = r.texts.front();
+            for (const TextBox& b : r.texts)
+                if (b.y1 > lowest.y1) lowest = b;
+            return lowest;
+        };
+        ViewResult whole = renderView(renderer, scene, request);
+        ASSERT_FALSE(whole.texts.empty());
+        const TextBox wholeBox = captionBox(whole);
+        EXPECT_EQ(wholeBox.text.find(kCaptionContinues), std::string::npos) << describe(whole.texts);
+        EXPECT_LT(wholeBox.y0, int(0.6 * request.height)) << "the caption fits in 40% anyway: the test shows nothing\n"
+                                                       << describe(whole.texts);
+        request.captionMaxShare = 0.4f;
+        ViewResult cell = renderView(renderer, scene, request);
+        // The tooltip's caption is the whole caption (skipped-pixels' last line gives the share of its
+        // pixels drawn, which grows with the picture's room: compared up to it).
+        const std::string shown = "\nshown at ";
+        EXPECT_EQ(cell.caption.substr(0, cell.caption.find(shown)), whole.caption.substr(0, whole.caption.find(shown)));
+        ASSERT_FALSE(cell.texts.empty());
+        const TextBox cellBox = captionBox(cell);
+        EXPECT_NE(cellBox.text.find(kCaptionContinues), std::string::npos) << describe(cell.texts);
+        EXPECT_GE(cellBox.y0, int(0.6 * request.height) - 1) << describe(cell.texts);
+        // The kept lines are the caption's first ones (the wrapping joins its double spaces).
+        const std::string firstWord = cell.caption.substr(0, cell.caption.find(' '));
+        EXPECT_EQ(cellBox.text.rfind(firstWord, 0), 0u) << cellBox.text;
+        // At a cell's size skipped-pixels' legend of seven classes is taller than its panel and
+        // pull-push's level labels meet their rows' titles, with or without the cut (noted on issue
+        // 20): the whole layout is checked on the error view.
+        if (view == "error") checkLayout(cell, request.width, request.height, view + " in a window cell");
+    }
+}
+
 // Colour bars on panels of several shapes, with the ranges whose labels used to collide
 // ("1.98.99 2.00 .01 2.02") and a long title: no overlap, nothing outside, ticks >= 2.
 TEST_F(TextStandard, ColourBarsLayTheirLabelsOutFromTheirMeasuredBoxes) {
