@@ -20,6 +20,26 @@ vec4 blockEdge(int level, ivec2 corner, int mask, int which, vec4 depths, float 
                 backprojectLevel(centre + vec2(e.z, e.w), level, depths[holders.y]));
 }
 
+// Block row `by` of a chunk: the blocks between sample rows by (`below`) and by + 1 (`above`)
+// whose samples neither all occlude nor all miss, their contour edges' areas added to `occluded`
+// one by one (the plain walk's order, which the C++ mirror keeps).
+void contourBlockRow(int level, int x0, int by, int blocks, uint below, uint above, int n, float t, inout float occluded) {
+    uint todo = contourBlockBits(below, above, blocks);
+    while (todo != 0u) {
+        int i = findLSB(todo);
+        todo &= todo - 1u;
+        ivec2 corner = ivec2(x0 + i, by);
+        int mask = contourBlockMask(below, above, i);
+        vec4 depths = vec4(levelDepth(level, corner, n), levelDepth(level, corner + ivec2(1, 0), n),
+                           levelDepth(level, corner + ivec2(1, 1), n), levelDepth(level, corner + ivec2(0, 1), n));
+        int count = contourRule(mask).x;
+        for (int which = 0; which < count; ++which) {
+            vec4 e = blockEdge(level, corner, mask, which, depths, t);
+            occluded += edgeOccludedArea(lightShape, e.xy, e.zw);
+        }
+    }
+}
+
 float occludedAreaAtLevel(int level, float w) {
     int size = int(shadowMapSize);
     int n = hsmLevelSize(level, size);
@@ -48,31 +68,20 @@ float occludedAreaAtLevel(int level, float w) {
         if (contourCentreOccluded(mask, t, turn0, turn1)) occluded = bpLightArea(lightShape);
     }
 
-    // Every 2x2 block with a sample in the kernel, chunk of BP_ROW_CHUNK blocks by chunk, row by row
-    // (backprojection.glsl section 9): the occlusion bits of each row of samples once, the edge work
-    // only on the contour blocks.
+    // Every 2x2 block with a sample in the kernel, chunk of BP_ROW_CHUNK blocks by chunk, two rows at
+    // a time (backprojection.glsl section 9): the occlusion bits of each row of samples once, the
+    // edge work only on the contour blocks.
     int columns = range.z - range.x + 2;  // block columns range.x - 1 .. range.z
     for (int cx = 0; cx < columns; cx += BP_ROW_CHUNK) {
         int x0 = range.x - 1 + cx;
         int blocks = min(BP_ROW_CHUNK, columns - cx);
         uint below = rowOcclusionBits(level, x0, range.y - 1, blocks + 1, n);
-        for (int by = range.y - 1; by <= range.w; ++by) {
-            uint above = rowOcclusionBits(level, x0, by + 1, blocks + 1, n);
-            uint todo = contourBlockBits(below, above, blocks);
-            while (todo != 0u) {
-                int i = findLSB(todo);
-                todo &= todo - 1u;
-                ivec2 corner = ivec2(x0 + i, by);
-                int mask = contourBlockMask(below, above, i);
-                vec4 depths = vec4(levelDepth(level, corner, n), levelDepth(level, corner + ivec2(1, 0), n),
-                                   levelDepth(level, corner + ivec2(1, 1), n), levelDepth(level, corner + ivec2(0, 1), n));
-                int count = contourRule(mask).x;
-                for (int which = 0; which < count; ++which) {
-                    vec4 e = blockEdge(level, corner, mask, which, depths, t);
-                    occluded += edgeOccludedArea(lightShape, e.xy, e.zw);
-                }
-            }
-            below = above;
+        for (int by = range.y - 1; by <= range.w; by += 2) {
+            uint above, next;
+            rowPairOcclusionBits(level, x0, by + 1, blocks + 1, n, above, next);
+            contourBlockRow(level, x0, by, blocks, below, above, n, t, occluded);
+            if (by + 1 <= range.w) contourBlockRow(level, x0, by + 1, blocks, above, next, n, t, occluded);
+            below = next;
         }
     }
     return occluded;
