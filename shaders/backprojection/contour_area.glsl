@@ -30,8 +30,7 @@ void contourBlockRow(int level, int x0, int by, int blocks, uint below, uint abo
         todo &= todo - 1u;
         ivec2 corner = ivec2(x0 + i, by);
         int mask = contourBlockMask(below, above, i);
-        vec4 depths = vec4(levelDepth(level, corner, n), levelDepth(level, corner + ivec2(1, 0), n),
-                           levelDepth(level, corner + ivec2(1, 1), n), levelDepth(level, corner + ivec2(0, 1), n));
+        vec4 depths = levelDepthQuad(level, corner, n);
         int count = contourRule(mask).x;
         for (int which = 0; which < count; ++which) {
             vec4 e = blockEdge(level, corner, mask, which, depths, t);
@@ -50,8 +49,7 @@ float occludedAreaAtLevel(int level, float w) {
     // Initialisation (Fig. 5b): the block of the four samples around p'.
     {
         ivec2 corner = ivec2(floor(receiver.centre / levelScale(level) - 0.5));
-        vec4 z = vec4(levelDepth(level, corner, n), levelDepth(level, corner + ivec2(1, 0), n),
-                      levelDepth(level, corner + ivec2(1, 1), n), levelDepth(level, corner + ivec2(0, 1), n));
+        vec4 z = levelDepthQuad(level, corner, n);
         int mask = (levelOccludes(level, corner, z.x, n) ? 1 : 0) | (levelOccludes(level, corner + ivec2(1, 0), z.y, n) ? 2 : 0) |
                    (levelOccludes(level, corner + ivec2(1, 1), z.z, n) ? 4 : 0) |
                    (levelOccludes(level, corner + ivec2(0, 1), z.w, n) ? 8 : 0);

@@ -69,6 +69,26 @@ uint rowOcclusionBits(int level, int x0, int y, int count, int levelSize) {
     return bits;
 }
 
+// The 2x2 samples of level `level` whose lower-left sample is t, from one gather:
+// (t, t + (1, 0), t + (1, 1), t + (0, 1)); the no-caster marker outside the level, as levelDepth.
+// On llvmpipe a gather costs about three texel fetches: it pays where all four samples are used
+// (the occlusion bits of two rows; a contour block's four depths: ssm-contour's visibility pass on
+// plant at 384x384 went 102 -> 88 ms), not for ssm-gbp06's quad (its sample and two neighbours:
+// 24.1 -> 25.4 ms, so gbp06_area.glsl keeps its three fetches).
+vec4 levelDepthQuad(int level, ivec2 t, int levelSize) {
+#ifdef LIGHT_MULTIRES
+    vec2 uv = vec2(float(t.x + hsmLevelAtlasX(level, int(shadowMapSize)) + 1), float(t.y + 1)) / shadowMapSize;
+    vec4 g = textureGather(depthLevels, vec3(uv, float(min(level, 1))));
+#else
+    vec4 g = textureGather(shadowMap, vec2(t + 1) / shadowMapSize);
+#endif
+    // gather's order: (x, y+1), (x+1, y+1), (x+1, y), (x, y); the footprint at its shared corner.
+    bvec2 in0 = bvec2(t.x >= 0 && t.x < levelSize, t.y >= 0 && t.y < levelSize);
+    bvec2 in1 = bvec2(t.x + 1 >= 0 && t.x + 1 < levelSize, t.y + 1 >= 0 && t.y + 1 < levelSize);
+    return vec4(in0.x && in0.y ? g.w : 3.4e38, in1.x && in0.y ? g.z : 3.4e38, in1.x && in1.y ? g.y : 3.4e38,
+                in0.x && in1.y ? g.x : 3.4e38);
+}
+
 // The occlusion bits of two rows, y and y + 1, of `count` (at most 32) samples from x0, as
 // rowOcclusionBits for each: one gather of the 2x2 samples (x, y) .. (x + 1, y + 1) per two columns,
 // a quarter of the fetches (on plant at 384x384 the visibility pass went 36 -> 24 ms for ssm-gbp06,
@@ -78,31 +98,14 @@ uint rowOcclusionBits(int level, int x0, int y, int count, int levelSize) {
 void rowPairOcclusionBits(int level, int x0, int y, int count, int levelSize, out uint lower, out uint upper) {
     lower = 0u;
     upper = 0u;
-#ifdef LIGHT_MULTIRES
-    int ax = hsmLevelAtlasX(level, int(shadowMapSize));
-    float layer = float(min(level, 1));
-#else
-    int ax = 0;
-#endif
-    vec2 scale = 1.0 / vec2(shadowMapSize);
     for (int i = 0; i < count; i += 2) {
-        // The footprint whose lower-left texel is (x, y): coordinates at its shared corner.
-        vec2 uv = vec2(float(x0 + i + ax + 1), float(y + 1)) * scale;
-#ifdef LIGHT_MULTIRES
-        vec4 g = textureGather(depthLevels, vec3(uv, layer));
-#else
-        vec4 g = textureGather(shadowMap, uv);
-#endif
-        // gather order: (x, y+1), (x+1, y+1), (x+1, y), (x, y)
         ivec2 t = ivec2(x0 + i, y);
-        bool in0 = t.x >= 0 && t.x < levelSize;
-        bool in1 = t.x + 1 >= 0 && t.x + 1 < levelSize && i + 1 < count;
-        bool inL = t.y >= 0 && t.y < levelSize;
-        bool inU = t.y + 1 >= 0 && t.y + 1 < levelSize;
-        if (in0 && inL && levelOccludes(level, t, g.w, levelSize)) lower |= 1u << uint(i);
-        if (in1 && inL && levelOccludes(level, t + ivec2(1, 0), g.z, levelSize)) lower |= 1u << uint(i + 1);
-        if (in0 && inU && levelOccludes(level, t + ivec2(0, 1), g.x, levelSize)) upper |= 1u << uint(i);
-        if (in1 && inU && levelOccludes(level, t + ivec2(1, 1), g.y, levelSize)) upper |= 1u << uint(i + 1);
+        vec4 z = levelDepthQuad(level, t, levelSize);
+        bool right = i + 1 < count;
+        if (levelOccludes(level, t, z.x, levelSize)) lower |= 1u << uint(i);
+        if (right && levelOccludes(level, t + ivec2(1, 0), z.y, levelSize)) lower |= 1u << uint(i + 1);
+        if (levelOccludes(level, t + ivec2(0, 1), z.w, levelSize)) upper |= 1u << uint(i);
+        if (right && levelOccludes(level, t + ivec2(1, 1), z.z, levelSize)) upper |= 1u << uint(i + 1);
     }
 }
 
