@@ -451,8 +451,19 @@ void buildPullPush(ViewContext& ctx, ViewResult& result) {
     auto probe = worldText("", glm::dvec2(0.0), font);
     for (int g = 0; g < 2; ++g) {
         const bool isPull = g == 0;
-        const std::string title = isPull ? "pull: levels 0 (sparse) .. " + std::to_string(levelCount - 1) + " (1x1)"
-                                         : "push: levels " + std::to_string(levelCount - 1) + " .. 0 (final visibility)";
+        // The header: the first of its forms that fits the panel's width on one line (its band is one
+        // line high; a narrow window cell wrapped the long form over the level labels).
+        const std::string last = std::to_string(levelCount - 1);
+        const std::vector<std::string> forms =
+            isPull ? std::vector<std::string>{"pull: levels 0 (sparse) .. " + last + " (1x1)", "pull: levels 0 .. " + last, "pull"}
+                   : std::vector<std::string>{"push: levels " + last + " .. 0 (final visibility)", "push: levels " + last + " .. 0", "push"};
+        std::string title;
+        for (const std::string& form : forms) {
+            int tw = 0, th = 0;
+            textExtent(probe->GetTextProperty(), form, tw, th);
+            title = form;
+            if (tw <= vw - 12.0) break;
+        }
         r->AddActor2D(worldText(title, glm::dvec2(0.0, top), font));
         drawn.push_back({{"text", title}});
         top -= header;
