@@ -244,7 +244,16 @@ void buildSkippedPixels(ViewContext& ctx, ViewResult& result) {
     vtkRenderer* side = ctx.out.addRenderer();
     side->SetViewport(split, strip, 1.0, 1.0);
     side->SetBackground(0.12, 0.12, 0.14);
-    addLegend(side, legendTitle, entries, ctx.out.height());
+    // A short picture (a window cell) whose legend is taller than its panel lists only the classes
+    // present (the others are nowhere in the picture; every count stays in the caption and data).
+    std::vector<LegendEntry> drawnEntries = entries;
+    const int sideW = ctx.out.width() - int(std::lround(split * ctx.out.width()));
+    if (legendHeightPx(legendTitle, entries, ctx.out.height(), sideW) > panelH) {
+        drawnEntries.clear();
+        for (size_t i = 0; i < entries.size(); ++i)
+            if (n[size_t(classes()[i].code)] > 0) drawnEntries.push_back(entries[i]);
+    }
+    addLegend(side, legendTitle, drawnEntries, ctx.out.height());
     if (!ctx.request.exportPath.empty()) writeImageData(image, ctx.exportTarget(ctx.request.exportPath));
 }
 

@@ -356,13 +356,8 @@ void build(ViewContext& ctx, ViewResult& result) {
                                      " triangles" + (hasEdge ? ", edge yellow" : "");
     auto shown = [&](const std::string& full) { return H < 320 ? shortCaption : full; };
     // The legend in one column, or two when one is taller than the panels (the window's short cells).
-    auto panelHeightPx = [&](const std::string& text) {
-        auto probe = captionActor(shown(text), H);
-        const int margin = std::max(6, textPx(H) / 3);
-        int w = 0, h = 0;
-        textExtent(probe->GetTextProperty(), wrapText(probe->GetTextProperty(), shown(text), W - 2 * margin), w, h);
-        return H - std::min(0.9 * H, double(h + 2 * margin));
-    };
+    // (The caption strip as addCaptionStrip lays it out: captionStripLayout.)
+    auto panelHeightPx = [&](const std::string& text) { return H * (1.0 - captionStripLayout(ctx.out, shown(text)).share); };
     const double panelPx = panelHeightPx(caption + "; shown at 99.9%, counts of every pixel");
     // Every step when they fit in one column; in a short picture only the steps that decided some
     // pixel (the others are nowhere in the map), in two columns if one is still too tall.
@@ -384,13 +379,7 @@ void build(ViewContext& ctx, ViewResult& result) {
     const double texShare = (1.0 - legendShare) * std::clamp(1.0 / (1.0 + frameAspect), 0.4, 0.6);
 
     // The branch map's magnification (picture pixels per frame pixel): under 1 not every pixel is drawn.
-    auto stripShare = [&](const std::string& text) {
-        auto probe = captionActor(shown(text), H);
-        const int margin = std::max(6, textPx(H) / 3);
-        int w = 0, h = 0;
-        textExtent(probe->GetTextProperty(), wrapText(probe->GetTextProperty(), shown(text), W - 2 * margin), w, h);
-        return std::min(0.9, double(h + 2 * margin) / H);
-    };
+    auto stripShare = [&](const std::string& text) { return captionStripLayout(ctx.out, shown(text)).share; };
     auto titleShareOf = [&](double strip) { return std::min(0.4, 1.6 * textPx(H) / ((1.0 - strip) * H)); };
     auto magnification = [&](double strip) {
         const double w = (1.0 - legendShare - texShare) * W, h = (1.0 - strip) * H, t = titleShareOf(strip);

@@ -177,10 +177,10 @@ TEST_F(TextStandard, WindowCellsCutALongCaptionToItsFirstLines) {
         // The kept lines are the caption's first ones (the wrapping joins its double spaces).
         const std::string firstWord = cell.caption.substr(0, cell.caption.find(' '));
         EXPECT_EQ(cellBox.text.rfind(firstWord, 0), 0u) << cellBox.text;
-        // At a cell's size skipped-pixels' legend of seven classes is taller than its panel and
-        // pull-push's level labels meet their rows' titles, with or without the cut (noted on issue
-        // 20): the whole layout is checked on the error view.
-        if (view == "error") checkLayout(cell, request.width, request.height, view + " in a window cell");
+        // The whole layout too (skipped-pixels' legend then lists only the classes present), except
+        // pull-push's: at a cell's size its two colour bars are too short for two ticks each (noted
+        // on issue 20).
+        if (view != "pull-push") checkLayout(cell, request.width, request.height, view + " in a window cell");
     }
 }
 
