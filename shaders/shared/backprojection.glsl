@@ -584,7 +584,9 @@ SHARED_FN bool bpLevelSampleOccludes(BpReceiver r, int level, ivec2 t, float zSa
 // samples that need work with bit operations, and loops over the set bits only: the loop runs as
 // many times as the lane with the most work in that row needs (a few on a shadow edge), not the
 // kernel's width. The results are those of the plain walk; the order of the sums is the plain
-// walk's within a chunk, chunk by chunk (the CPU mirrors run the same order).
+// walk's within a chunk, chunk by chunk (the CPU mirrors run the same order). The GPU reads the
+// bits of two rows at a time, one textureGather per 2x2 samples (visibility_common.glsl
+// rowPairOcclusionBits), and then walks the two rows one after the other: the same bits, sums and order.
 
 // Samples per chunk of a row: 32 bits hold 32 samples, i.e. the 31 blocks of 2x2 samples between
 // them (ssm-contour) or 31 samples with their right neighbours (ssm-gbp06).
