@@ -147,8 +147,12 @@ void Window::drawViewsPanel() {
         // caption itself, so a second copy here only took the picture's room (at 1024x768 with two
         // views the two copies filled the cells).
         const bool hint = !state_.pickedPixel && i == 0;
-        const float captionBand = hint ? ImGui::GetTextLineHeightWithSpacing() : 0.0f;
+        static const char* kPickHint = "Ctrl+click in the image picks the pixel the views show";
         const ImVec2 avail = ImGui::GetContentRegionAvail();
+        // The hint as tall as it wraps in the cell (two lines in a 1024x768 cell; one line's band
+        // cut its second line off).
+        const float captionBand =
+            hint ? ImGui::CalcTextSize(kPickHint, nullptr, false, avail.x).y + ImGui::GetStyle().ItemSpacing.y : 0.0f;
         if (v->valid && v->frame) {
             const float aspect = float(v->frame->width()) / float(std::max(1, v->frame->height()));
             float h = std::max(1.0f, avail.y - captionBand), w = h * aspect;
@@ -181,7 +185,7 @@ void Window::drawViewsPanel() {
         }
         if (hint) {
             ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + avail.x);
-            ImGui::TextDisabled("Ctrl+click in the image picks the pixel the views show");
+            ImGui::TextDisabled("%s", kPickHint);
             ImGui::PopTextWrapPos();
         }
         ImGui::End();
