@@ -40,6 +40,8 @@ struct SpsmTriangle {
     vec2 b;
     vec2 c;
     vec3 w;          // 1/z at a, b, c (light-view depth z > 0)
+    float wError;    // the largest error of w as stored: spsmUnpack sets it from the stored scale (the
+                     // look-up's tests add it; a triangle not read from the map: spsmInverseDepthError)
 };
 
 SHARED_FN uvec4 spsmPutBits(uvec4 words, uint offset, uint width, uint value) {
@@ -128,11 +130,15 @@ SHARED_FN SpsmTriangle spsmUnpack(uvec4 w, float smSize) {
     float unit = spsmDepthScale(w0, spsmGetBits(w, 105u, 5u)) / 255.0f;
     t.w = vec3(w0, w0 + (float(spsmGetBits(w, 110u, 9u)) - 255.0f) * unit,
                w0 + (float(spsmGetBits(w, 119u, 9u)) - 255.0f) * unit);
+    // spsmInverseDepthError with the stored scale (not recomputed from the rounded values: once per
+    // texel here, where the look-up's tests ran it for every triangle test and depth comparison).
+    t.wError = 0.5f * unit + 6.2e-5f * max(t.w.x, max(t.w.y, t.w.z));
     return t;
 }
 
 // The largest error of a stored inverse depth: half a difference unit, plus w0's rounding (2^-14
-// relative) which every vertex inherits. The look-up's bias adds it, per triangle.
+// relative) which every vertex inherits. The look-up's bias adds it, per triangle (t.wError, which
+// spsmUnpack computes with the stored scale; this recomputes the scale from t's values).
 SHARED_FN float spsmInverseDepthError(SpsmTriangle t) {
     float m = max(abs(t.w.y - t.w.x), abs(t.w.z - t.w.x));
     float unit = spsmDepthScale(t.w.x, spsmDepthScaleExponent(t.w.x, m)) / 255.0f;
@@ -172,7 +178,7 @@ SHARED_FN float spsmDepthAt(SpsmTriangle t, vec2 x) {
 // at the depth there (dz = dw / w^2).
 SHARED_FN float spsmPackingDepthError(SpsmTriangle t, vec2 x) {
     float w = spsmInverseDepthAt(t, x);
-    return w > 1e-15f ? spsmInverseDepthError(t) / (w * w) : SPSM_FAR;
+    return w > 1e-15f ? t.wError / (w * w) : SPSM_FAR;
 }
 
 // ---- 2D tests
@@ -260,7 +266,7 @@ SHARED_FN int spsmTriangleTest(SpsmTriangle t, vec2 x, float zReceiver, float bi
     float lb = e.z / area;
     float w = t.w.x + lb * (t.w.y - t.w.x) + (1.0f - la - lb) * (t.w.z - t.w.x);
     float z = w > 0.0f ? 1.0f / w : SPSM_FAR;
-    float error = w > 1e-15f ? spsmInverseDepthError(t) / (w * w) : SPSM_FAR;
+    float error = w > 1e-15f ? t.wError / (w * w) : SPSM_FAR;
     return z < zReceiver - bias - error ? 2 : 1;
 }
 
@@ -273,7 +279,7 @@ SHARED_FN bool spsmOccludesByDepth(SpsmTriangle t, vec2 x, float zReceiver, floa
     float wHi = max(t.w.x, max(t.w.y, t.w.z));
     float w = clamp(spsmInverseDepthAt(t, x), wLo, wHi);
     float z = w > 0.0f ? 1.0f / w : SPSM_FAR;
-    return z < zReceiver - bias - spsmInverseDepthError(t) / max(w * w, 1e-30f);
+    return z < zReceiver - bias - t.wError / max(w * w, 1e-30f);
 }
 
 // ---- The shadow-edge reconstruction (the paper's Fig. 1 right and Fig. 2)

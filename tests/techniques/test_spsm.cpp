@@ -35,6 +35,7 @@ SpsmTriangle makeTriangle(vec2 a, vec2 b, vec2 c, vec3 w) {
     t.b = b;
     t.c = c;
     t.w = w;
+    t.wError = spsmInverseDepthError(t);
     return t;
 }
 SpsmTriangle flat(vec2 a, vec2 b, vec2 c, float z) { return makeTriangle(a, b, c, vec3(1.0f / z)); }
@@ -62,7 +63,9 @@ TEST(SpsmMath, PackingRoundTripHoldsItsDocumentedPrecision) {
             ASSERT_FALSE(spsmEmpty(code));
             SpsmTriangle r = spsmUnpack(code, smSize);
             for (vec2 dv : {r.a - t.a, r.b - t.b, r.c - t.c}) worstVertex = std::max({worstVertex, std::abs(dv.x), std::abs(dv.y)});
-            float bound = spsmInverseDepthError(r);
+            // The bound the look-up adds (from the stored scale), and the one recomputed from the
+            // unpacked values: both hold.
+            float bound = std::min(r.wError, spsmInverseDepthError(r));
             for (int k = 0; k < 3; ++k) worstW = std::max(worstW, std::abs(r.w[k] - t.w[k]) / bound);
             // Depths inside the triangle (same vertices, so only the inverse depths' error counts).
             SpsmTriangle exact = t;
