@@ -349,8 +349,8 @@ void build(ViewContext& ctx, ViewResult& result) {
         countsJ[c.name] = counts[size_t(b)];
     }
     const int W = ctx.out.width(), H = ctx.out.height();
-    // A short picture (the window's cells, which print the whole caption under it) draws the
-    // caption's counts on one line, so that the panels keep their room.
+    // A short picture (a window cell, whose tooltip shows the whole caption) draws the caption's
+    // counts on one line, so that the panels keep their room.
     const std::string shortCaption = "texel (" + std::to_string(texel.x) + ", " + std::to_string(texel.y) + "): " + branch +
                                      ", " + std::to_string(tested.size()) + " tested, " + std::to_string(triangles.size()) +
                                      " triangles" + (hasEdge ? ", edge yellow" : "");
