@@ -14,6 +14,7 @@
 
 #include "error.h"
 #include "scene/input_file.h"
+#include "views.h"
 #include "window/camera_control.h"
 #include "lesson/player.h"
 #include "window/window.h"
@@ -238,6 +239,7 @@ void Window::scroll(double dy) {
 //                              a mouse drag in window coordinates over FRAMES frames
 //                              (BUTTON left|right|middle, MODS none|shift|ctrl)
 //   view NAME | close-view NAME  a VTK view in the views panel (scene3d, shadow-map, internal, error)
+//   enlarge-view NAME | off      that view (opened if it is not) over the technique view's region; off: back
 //   drag-light DX DY FRAMES    a left drag from the selected light's centre, by (DX, DY) pixels
 //   scroll DY | pick X Y | split off|reference|TECHNIQUE | split-at F | error on|off
 //   frustum on|off | ui-scale F | help on|off | panel on|off | views on|off | background on|off
@@ -304,7 +306,7 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         {"background", {1, 1}}, {"resize", {2, 2}},  {"wait", {1, 1}},       {"wait-reference", {0, 1}},
         {"screenshot", {1, 1}}, {"reference-samples", {1, 1}}, {"save-reference", {1, 1}},
         {"reference", {1, 1}}, {"reference-rays", {1, 1}},
-        {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}, {"view", {1, 1}}, {"close-view", {1, 1}},
+        {"save-visibility", {1, 1}}, {"drag-light", {3, 3}}, {"view", {1, 1}}, {"close-view", {1, 1}}, {"enlarge-view", {1, 1}},
         {"lesson", {1, 1}}};
     for (int line = 1; std::getline(in, text); ++line) {
         if (auto hash = text.find('#'); hash != std::string::npos) text.resize(hash);
@@ -407,6 +409,13 @@ std::deque<ScriptCommand> parseScript(const std::string& path) {
         } else if (c.verb == "split") {
             if (c.args[0] != "off" && c.args[0] != "reference" && !findTechnique(c.args[0]))
                 throw InputError(where + "split: expected off, reference or a technique, got '" + c.args[0] + "'");
+        } else if (c.verb == "enlarge-view") {
+            const std::vector<ViewInfo> views = listViews();
+            if (c.args[0] != "off" && std::none_of(views.begin(), views.end(), [&](const ViewInfo& v) { return v.name == c.args[0]; })) {
+                std::string names;
+                for (const ViewInfo& v : views) names += ", " + v.name;
+                throw InputError(where + "enlarge-view: expected off or a view (" + names.substr(2) + "), got '" + c.args[0] + "'");
+            }
         } else if (c.verb == "error" || c.verb == "frustum" || c.verb == "help" || c.verb == "panel" || c.verb == "present" ||
                    c.verb == "views" || c.verb == "background" || c.verb == "accuracy") {
             onOff(c.args[0]);
@@ -493,6 +502,7 @@ void Window::runScriptStep() {
         else if (c.verb == "background") state_.backgroundReference = on(0);
         else if (c.verb == "view") openView(a[0]);
         else if (c.verb == "close-view") closeView(a[0]);
+        else if (c.verb == "enlarge-view") enlargeView(a[0]);
         else if (c.verb == "reference-samples") setReferenceSamples(std::stoi(a[0]));
         else if (c.verb == "reference") setReferenceTechnique(a[0]);
         else if (c.verb == "reference-rays") setReferenceRays(std::stoi(a[0]));

@@ -29,6 +29,16 @@ void Window::openView(const std::string& name) {
 
 void Window::closeView(const std::string& name) {
     state_.openViews.erase(std::remove(state_.openViews.begin(), state_.openViews.end(), name), state_.openViews.end());
+    if (state_.enlargedView == name) state_.enlargedView.clear();
+}
+
+void Window::enlargeView(const std::string& name) {
+    if (name.empty() || name == "off") {
+        state_.enlargedView.clear();
+        return;
+    }
+    openView(name);  // refuses an unknown name in the status line
+    if (std::find(state_.openViews.begin(), state_.openViews.end(), name) != state_.openViews.end()) state_.enlargedView = name;
 }
 
 void Window::syncViewList() {
@@ -44,6 +54,8 @@ void Window::syncViewList() {
     // UI's draw list; it has been drawn.
     for (const auto& v : views_)
         if (v->frame) v->frame->releaseRetired();
+    if (std::find(state_.openViews.begin(), state_.openViews.end(), state_.enlargedView) == state_.openViews.end())
+        state_.enlargedView.clear();
     for (const std::string& name : state_.openViews)
         if (std::none_of(views_.begin(), views_.end(), [&](const auto& v) { return v->name == name; })) {
             auto v = std::make_unique<OpenView>();
@@ -62,7 +74,11 @@ void Window::updateViews() {
         // Rendered at its cell's size (window/layout.h), less the title line and the caption band,
         // so a view is as legible as its cell allows (300 x 225 x scale when it has no cell).
         int w = int(300 * s), h = int(225 * s);
-        if (index < layout_.cells.size() && !layout_.cells[index].empty()) {
+        if (v->name == state_.enlargedView && !layout_.technique.empty()) {
+            // Enlarged: the technique view's region less the title line (drawViewsPanel).
+            w = std::max(64, int(layout_.technique.w - 4.0f * s));
+            h = std::max(48, int(layout_.technique.h - (17.0f + 10.0f) * s));
+        } else if (index < layout_.cells.size() && !layout_.cells[index].empty()) {
             // The title line, and the pick hint under the first view while no pixel is picked; the
             // caption is drawn inside the picture (and shown again as its tooltip), not under it.
             const float band = (17.0f * (!state_.pickedPixel && index == 0 ? 2.0f : 1.0f) + 10.0f) * s;
@@ -93,7 +109,8 @@ void Window::updateViews() {
         request.zoom = v->zoom;
         // A cell is a few hundred pixels high: a long caption keeps its first lines (the whole of it
         // is the cell's tooltip), so the picture keeps at least 60% of the cell.
-        request.captionMaxShare = 0.4f;
+        // Enlarged, the view has room for its whole caption (the request's default).
+        if (v->name != state_.enlargedView) request.captionMaxShare = 0.4f;
         if (error) {
             if (referenceImageGeneration_ != ref().generation()) {
                 referenceImage_ = ref().visibility();
@@ -123,37 +140,65 @@ void Window::updateViews() {
 }
 
 // The views strip (window/layout.h): one fixed window per open view, in its cell under the
-// technique view; the image scaled into the cell at its own aspect, its caption below.
+// technique view; the image scaled into the cell at its own aspect, its caption below. The
+// enlarged view (WindowState::enlargedView) is drawn over the technique view's region, rendered at
+// that size (updateViews), and its cell keeps its title line with a "restore" button: a lecturer
+// shows one view as large as the frame at 1024x768, where a cell's picture is about 190 x 150.
 void Window::drawViewsPanel() {
     const float s = state_.uiScale;
-    std::string toClose;
+    std::string toClose, toEnlarge;
+    bool restore = false;
     const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
                                    ImGuiWindowFlags_NoTitleBar;
-    for (size_t i = 0; i < views_.size() && i < layout_.cells.size(); ++i) {
+    // What to draw: every view in its cell, and the enlarged one again over the technique view.
+    struct Place {
+        size_t index;
+        LayoutRect region;
+        bool enlarged;
+    };
+    std::vector<Place> places;
+    for (size_t i = 0; i < views_.size(); ++i) {
+        if (i < layout_.cells.size() && !layout_.cells[i].empty()) places.push_back({i, layout_.cells[i], false});
+        if (views_[i]->name == state_.enlargedView && !layout_.technique.empty()) places.push_back({i, layout_.technique, true});
+    }
+    for (const Place& place : places) {
+        const size_t i = place.index;
         auto& v = views_[i];
-        const LayoutRect& cell = layout_.cells[i];
-        if (cell.empty()) continue;
-        placeRegion(cell);
-        ImGui::SetNextWindowBgAlpha(0.92f);
+        const bool enlarged = place.enlarged;
+        const bool isEnlarged = v->name == state_.enlargedView && !layout_.technique.empty();  // shown over it
+        placeRegion(place.region);
+        ImGui::SetNextWindowBgAlpha(enlarged ? 1.0f : 0.92f);
         ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(2 * s, 2 * s));
-        ImGui::Begin(("##view " + v->name).c_str(), nullptr, fixed);
+        ImGui::Begin(("##view " + v->name + (enlarged ? " enlarged" : "")).c_str(), nullptr, fixed);
         ImGui::PopStyleVar();
         ImGui::TextUnformatted(v->name.c_str());
-        ImGui::SameLine();
+        ImGui::SameLine(0.0f, 3.0f * s);
         ImGui::PushID(v->name.c_str());
+        ImGui::PushID(enlarged ? 1 : 0);
         if (ImGui::SmallButton("close")) toClose = v->name;
+        ImGui::SameLine(0.0f, 3.0f * s);  // tight: the title line of a 1024x768 cell has about 200 px
+        if (isEnlarged) {
+            if (ImGui::SmallButton("restore")) restore = true;
+        } else if (ImGui::SmallButton("enlarge")) {
+            toEnlarge = v->name;
+        }
+        ImGui::PopID();
         ImGui::PopID();
         // Under the picture only the pick hint (first view, no pixel picked): the view draws its
         // caption itself, so a second copy here only took the picture's room (at 1024x768 with two
         // views the two copies filled the cells).
-        const bool hint = !state_.pickedPixel && i == 0;
+        const bool hint = !state_.pickedPixel && i == 0 && !enlarged;
         static const char* kPickHint = "Ctrl+click in the image picks the pixel the views show";
         const ImVec2 avail = ImGui::GetContentRegionAvail();
         // The hint as tall as it wraps in the cell (two lines in a 1024x768 cell; one line's band
         // cut its second line off).
         const float captionBand =
             hint ? ImGui::CalcTextSize(kPickHint, nullptr, false, avail.x).y + ImGui::GetStyle().ItemSpacing.y : 0.0f;
-        if (v->valid && v->frame) {
+        if (isEnlarged && !enlarged) {
+            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + avail.x);
+            ImGui::TextDisabled("shown enlarged over the technique view (restore puts it back)");
+            ImGui::PopTextWrapPos();
+        } else if (v->valid && v->frame) {
             const float aspect = float(v->frame->width()) / float(std::max(1, v->frame->height()));
             float h = std::max(1.0f, avail.y - captionBand), w = h * aspect;
             if (w > avail.x) w = avail.x, h = w / aspect;
@@ -169,7 +214,8 @@ void Window::drawViewsPanel() {
                 }
                 if (io.MouseWheel != 0.0f) v->zoom = std::clamp(v->zoom * (io.MouseWheel > 0 ? 1.1f : 1.0f / 1.1f), 0.1f, 20.0f);
             }
-            if (ImGui::IsItemHovered() && !v->caption.empty() && !ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+            // The whole caption as the cell's tooltip (an enlarged view prints all of it already).
+            if (!enlarged && ImGui::IsItemHovered() && !v->caption.empty() && !ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
                 ImGui::BeginTooltip();
                 ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30.0f);
                 ImGui::TextUnformatted(v->caption.c_str());
@@ -191,6 +237,8 @@ void Window::drawViewsPanel() {
         ImGui::End();
     }
     if (!toClose.empty()) closeView(toClose);
+    if (restore) enlargeView("off");
+    if (!toEnlarge.empty()) enlargeView(toEnlarge);
 }
 
 }  // namespace shadowlab

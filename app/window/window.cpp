@@ -1095,9 +1095,15 @@ std::string Window::lastFrameReport() const {
                      {"shown_total", shownSource() && shownSource()->active() ? shownSource()->total() : 0},
                      {"reference_technique", state_.referenceTechnique},
                      {"window", {windowSize().x, windowSize().y}}, {"layout", layout_.toJson()},
+                     {"enlarged_view", state_.enlargedView},
                      {"technique", state_.technique},
                      {"phases_ms", {{"ui", phaseMs_[0]}, {"render_and_reference", phaseMs_[1]}, {"present", phaseMs_[2]},
                                     {"imgui_draw", phaseMs_[3]}, {"swap", phaseMs_[4]}}}};
+    // Each open view's rendered frame (its cell's size, or the technique view's when enlarged).
+    nlohmann::json frames = nlohmann::json::object();
+    for (const auto& v : views_)
+        if (v->frame) frames[v->name] = {v->frame->width(), v->frame->height()};
+    j["view_frames"] = frames;
     if (!state_.lights.empty()) {
         const glm::vec3& p = state_.lights[size_t(state_.lightIndex)].position;
         j["light"] = {p.x, p.y, p.z};

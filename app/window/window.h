@@ -85,6 +85,9 @@ struct WindowState {
     bool showPanel = true, showHud = true, showHelp = false, showViews = false;
     bool showAccuracy = false;  // the accuracy-time chart of the settings tried (A)
     std::vector<std::string> openViews;  // VTK views shown in the views panel (viz/views.h names)
+    // An open view shown enlarged over the technique view's region ("" for none): its "enlarge"
+    // button or the script's `enlarge-view NAME`; "restore" (or `enlarge-view off`) puts it back.
+    std::string enlargedView;
 };
 
 // Every field a progressive reference depends on (reference.cpp): a difference restarts it.
@@ -263,6 +266,7 @@ public:
     void screenshot(const std::string& path);  // the whole window, UI included, after this frame
     void openView(const std::string& name);     // a VTK view of viz/views.h in the views panel
     void closeView(const std::string& name);
+    void enlargeView(const std::string& name);  // "" or "off": none (the view is opened if it is not)
     // ---- lessons (window_lesson.cpp): the player drives the window through the actions above.
     void openLesson(Lesson lesson);  // applies its first step
     // "next", "previous", "restore", "check", "show-me" (the panel's buttons; --script lesson ACTION)

@@ -408,3 +408,57 @@ TEST(Window, NoDisplayFallsBackToAHeadlessRender) {
 }
 
 }  // namespace
+
+// A view enlarged over the technique view (its "enlarge" button, the script's `enlarge-view`) is
+// rendered at that region's size, far larger than its cell, and goes back to its cell with
+// `enlarge-view off`; closing it ends the enlargement; an unknown name is refused with its line.
+TEST(Window, AViewEnlargedTakesTheTechniqueViewsRegion) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    // The views render one per frame once the frame is complete: each phase waits for that.
+    std::ofstream(tmp("enlarge.txt")) << "background off\nview scene3d\nview shadow-map\nwait 12\n"
+                                      << "enlarge-view shadow-map\nwait 12\nscreenshot " << tmp("enlarged.pfm") << "\n"
+                                      << "enlarge-view off\nwait 12\nscreenshot " << tmp("restored.pfm") << "\n"
+                                      << "enlarge-view scene3d\nwait 2\nclose-view scene3d\nwait 2\n";
+    const std::string report = tmp("enlarge.json");
+    std::filesystem::remove(report);
+    auto r = runXvfb("window --scene square-occluder --technique pcf --size 640x480 --script " + tmp("enlarge.txt") +
+                     " --report " + report);
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::ifstream in(report);
+    ASSERT_TRUE(in) << r.output;
+    const nlohmann::json frames = nlohmann::json::parse(in)["frames"];
+    ASSERT_FALSE(frames.empty());
+    // The last frame of each phase: shadow-map enlarged, then restored, then scene3d enlarged and closed.
+    const nlohmann::json* enlarged = nullptr;
+    const nlohmann::json* restored = nullptr;
+    bool scene3dEnlarged = false;
+    for (const nlohmann::json& f : frames) {
+        const std::string e = f["enlarged_view"];
+        if (e == "shadow-map") enlarged = &f;
+        if (e == "scene3d") scene3dEnlarged = true;
+        if (enlarged && e.empty() && !scene3dEnlarged) restored = &f;
+    }
+    ASSERT_TRUE(enlarged && restored) << "the report never showed shadow-map enlarged and then restored";
+    ASSERT_TRUE((*enlarged)["view_frames"].contains("shadow-map")) << (*enlarged).dump();
+    ASSERT_TRUE((*restored)["view_frames"].contains("shadow-map")) << (*restored).dump();
+    ASSERT_TRUE((*restored)["layout"].contains("cell 1")) << (*restored).dump();
+    EXPECT_TRUE(scene3dEnlarged);
+    EXPECT_EQ(frames.back()["enlarged_view"], "") << "closing the enlarged view ends the enlargement";
+    const nlohmann::json& technique = (*enlarged)["layout"]["technique"];
+    const nlohmann::json& cell = (*restored)["layout"]["cell 1"];
+    const float bigW = (*enlarged)["view_frames"]["shadow-map"][0], bigH = (*enlarged)["view_frames"]["shadow-map"][1];
+    const float smallW = (*restored)["view_frames"]["shadow-map"][0];
+    // Enlarged: the technique view's width less the window padding, its height less the title line.
+    EXPECT_NEAR(bigW, technique[2].get<float>(), 8.0f);
+    EXPECT_GT(bigH, 0.8f * technique[3].get<float>());
+    EXPECT_GT(bigW, 1.5f * cell[2].get<float>());
+    EXPECT_LE(smallW, cell[2].get<float>());
+    // The enlarged view covers the technique image: the top of the window differs.
+    Image a = shadowlab::readPFM(tmp("enlarged.pfm")), b = shadowlab::readPFM(tmp("restored.pfm"));
+    EXPECT_GT(meanDiff(a, b), 0.02);
+
+    std::ofstream(tmp("enlarge-bad.txt")) << "wait 1\nenlarge-view nosuch\n";
+    auto bad = runXvfb("window --scene square-occluder --technique pcf --size 320x240 --script " + tmp("enlarge-bad.txt"));
+    EXPECT_EQ(bad.code, 2) << bad.output;
+    EXPECT_NE(bad.output.find("enlarge-bad.txt:2: enlarge-view: expected off or a view"), std::string::npos) << bad.output;
+}
