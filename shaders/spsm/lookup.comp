@@ -1,8 +1,9 @@
 // spsm look-up (lecocq2014, "At the rendering stage"): the receiver p projected into SPSM space
-// (x = its texel coordinate, z its light-view depth), in five dispatches (LOOKUP_STEP):
-//  1 every pixel (8 x 8 groups; under refineFrame, every pixel of the band): the texel's stored triangle decides when it covers x (on it or
-//    behind p: lit; in front of p: the ray to the light hits it, shadowed); an empty texel is lit
-//    (conservative rasterization: no caster touches it). The others are appended to list 1.
+// (x = its texel coordinate, z its light-view depth), in five steps (LOOKUP_STEP):
+//  1 every pixel (lookup_texel.frag, a fragment shader; under refineFrame, every pixel of the band):
+//    the texel's stored triangle decides when it covers x (on it or behind p: lit; in front of p: the
+//    ray to the light hits it, shadowed); an empty texel is lit (conservative rasterization: no
+//    caster touches it). The others are appended to list 1.
 //  2, 4 one invocation writes the next step's dispatch arguments from its list's length.
 //  3 list 1's pixels (an indirect dispatch, 64 per group): the triangles of the k x k
 //    neighbourhood; a hit: shadowed; one covering x behind p: lit.
@@ -15,13 +16,10 @@
 // lock-step through both sides of every branch, so a step under an `if` costs as if every pixel
 // ran it; packed, every lane does useful work (the ssm-contour `pack` idea, with an atomic append:
 // the lists' order does not matter, each entry writes its own pixel).
-// counts: [0] list 1's length, [1..3] step 3's dispatch, [4] list 2's length, [5..7] step 5's
-// (64 invocations a group, groups in rows of SPSM_ROW: a 4K frame's list exceeds the 65535 groups
-// one row allows).
-layout(std430, binding = 0) buffer Counts { uint counts[]; };
 const uint SPSM_GROUP = 64u;
 const uint SPSM_ROW = 4096u;
 #if LOOKUP_STEP == 2 || LOOKUP_STEP == 4
+layout(std430, binding = 0) buffer Counts { uint counts[]; };
 layout(local_size_x = 1) in;
 void main() {
     const uint at = LOOKUP_STEP == 2 ? 0u : 4u;
@@ -31,23 +29,10 @@ void main() {
     counts[at + 3u] = 1u;
 }
 #else
-#include "../common/gbuffer_access.glsl"
-#include "../common/shadow_lookup.glsl"
-#include "../shared/tangent_plane.glsl"
-#include "../shared/spsm.glsl"
-#include "branches.glsl"
-
-uniform usampler2D spsmMap;
+#include "lookup_common.glsl"
 layout(r32f, binding = 0) uniform writeonly image2D visibilityImage;
 layout(r32f, binding = 1) uniform writeonly image2D branchImage;
-layout(std430, binding = 1) buffer List1 { uint list1[]; };  // x | y << 16
-layout(std430, binding = 2) buffer List2 { uint list2[]; };
-#if LOOKUP_STEP == 1
-layout(local_size_x = 8, local_size_y = 8) in;
-uniform ivec4 band;  // the pixels [band.xy, band.zw) (refineFrame's band of rows; else the frame)
-#else
 layout(local_size_x = 64) in;
-#endif
 #if LOOKUP_STEP == 3
 uniform int neighbourhood;   // k: odd, 3 (the paper) to 7 (Dai et al. 2008)
 uniform int reconstruction;  // 1: reconstruct the shadow edge (the paper); 0: Dai et al. 2008
@@ -69,13 +54,7 @@ uint spsmOccludingNeighbours(SpsmTriangle tris[9], bool stored[9], ivec2 t, int 
     return occluding;
 }
 
-uint packPixel(ivec2 pixel) { return uint(pixel.x) | (uint(pixel.y) << 16u); }
-
 void main() {
-#if LOOKUP_STEP == 1
-    ivec2 pixel = band.xy + ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(pixel, band.zw))) return;
-#else
     uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * SPSM_GROUP + gl_LocalInvocationIndex;
 #if LOOKUP_STEP == 3
     if (index >= counts[0]) return;
@@ -85,43 +64,13 @@ void main() {
     uint entry = list2[index];
 #endif
     ivec2 pixel = ivec2(int(entry & 0xFFFFu), int(entry >> 16u));
-#endif
-    if (isBackground(pixel)) {
-        decide(pixel, 1.0, SPSM_BRANCH_NONE);
-        return;
-    }
-    vec3 p = worldPosition(pixel);
-    vec3 n = worldNormal(pixel);
-    if (!inFrontOfTangentPlane(p, n, lightPosition)) {  // the visibility convention at the light centre
-        decide(pixel, 0.0, SPSM_BRANCH_FACING_AWAY);
-        return;
-    }
-    ShadowReceiver r = prepareShadowReceiver(p, n);
-    if (r.coord.w == 0.0) {  // outside the light's frustum: lit, as for `hard`
-        decide(pixel, 1.0, SPSM_BRANCH_EMPTY);
-        return;
-    }
-    vec2 x = r.coord.xy * shadowMapSize;
-    int last = int(shadowMapSize) - 1;
-    ivec2 t = clamp(ivec2(floor(x)), ivec2(0), ivec2(last));
-    float bias = r.bias;  // the triangle tests add each triangle's packing error
-#if LOOKUP_STEP == 1
-    uvec4 w = texelFetch(spsmMap, t, 0);
-    float v = 1.0;
-    float b = SPSM_BRANCH_EMPTY;
-    // The test runs in a loop of 0 or 1 iterations rather than under an `if`: llvmpipe runs both
-    // sides of an `if` for its 8 pixels in lock-step, but leaves a loop as soon as no pixel needs
-    // another iteration, so a group whose texels are all empty (most of a frame) skips the unpack
-    // and the test.
-    int tests = spsmEmpty(w) ? 0 : 1;
-    for (int i = 0; i < tests; ++i) {
-        int test = spsmTriangleTest(spsmUnpack(w, shadowMapSize), x, r.coord.z, bias);
-        v = test == 2 ? 0.0 : 1.0;
-        b = test == 1 ? SPSM_BRANCH_ON_TRIANGLE : (test == 2 ? SPSM_BRANCH_HIT : SPSM_BRANCH_UNDECIDED);
-    }
-    decide(pixel, v, b);
-    if (b == SPSM_BRANCH_UNDECIDED) list1[atomicAdd(counts[0], 1u)] = packPixel(pixel);
-#elif LOOKUP_STEP == 3
+    // A listed pixel was undecided in step 1: its receiver is in the map's frustum, facing the light.
+    SpsmReceiver receiver = spsmPrepareReceiver(pixel);
+    vec2 x = receiver.x;
+    ivec2 t = receiver.t;
+    int last = receiver.last;
+    float bias = receiver.bias;
+#if LOOKUP_STEP == 3
     // The 3x3 neighbourhood is unpacked once: its triangles are the ray tests' (k = 3) and the
     // depth comparisons' that decide whether the reconstruction has an edge to find.
     SpsmTriangle tris[9];
@@ -138,7 +87,7 @@ void main() {
         ivec2 q = t + ivec2(k % 3 - 1, k / 3 - 1);
         bool inMap = all(greaterThanEqual(q, ivec2(0))) && all(lessThanEqual(q, ivec2(last)));
         if (k != 4 && inMap && stored[k]) {
-            int test = spsmTriangleTest(tris[k], x, r.coord.z, bias);
+            int test = spsmTriangleTest(tris[k], x, receiver.z, bias);
             hit = hit || test == 2;
             covered = covered || test == 1;
         }
@@ -151,14 +100,14 @@ void main() {
             if (max(abs(dx), abs(dy)) > 1 && all(greaterThanEqual(q, ivec2(0))) && all(lessThanEqual(q, ivec2(last)))) {
                 uvec4 w = texelFetch(spsmMap, q, 0);
                 if (!spsmEmpty(w)) {
-                    int test = spsmTriangleTest(spsmUnpack(w, shadowMapSize), x, r.coord.z, bias);
+                    int test = spsmTriangleTest(spsmUnpack(w, shadowMapSize), x, receiver.z, bias);
                     hit = hit || test == 2;
                     covered = covered || test == 1;
                 }
             }
         }
     }
-    uint occluding = spsmOccludingNeighbours(tris, stored, t, last, r.coord.z, bias);
+    uint occluding = spsmOccludingNeighbours(tris, stored, t, last, receiver.z, bias);
     if (hit) {
         decide(pixel, 0.0, SPSM_BRANCH_NEIGHBOUR_HIT);
     } else if (covered) {
@@ -181,7 +130,7 @@ void main() {
         tris[k] = spsmUnpack(w, shadowMapSize);
         stored[k] = !spsmEmpty(w);
     }
-    uint occluding = spsmOccludingNeighbours(tris, stored, t, last, r.coord.z, bias);  // neither 0 nor 511
+    uint occluding = spsmOccludingNeighbours(tris, stored, t, last, receiver.z, bias);  // neither 0 nor 511
     SpsmEdge e = spsmReconstructEdge(tris, occluding, x, vec2(t) + 0.5);
     if (e.decided == 1) {
         decide(pixel, 1.0 - e.shadowed, SPSM_BRANCH_EDGE);

@@ -76,26 +76,47 @@ private:
     GLuint fboTexture_ = 0, fboDepth_ = 0;
 };
 
-// Pass 2: the look-up, in five dispatches (shaders/spsm/lookup.comp): every pixel against its
-// texel's triangle, the undecided ones appended to list 1; list 1 against the neighbourhood, the
-// still undecided appended to list 2; list 2 by the reconstructed edge (steps 2 and 4 write the
-// indirect dispatches' arguments).
+// Pass 2: the look-up in five steps (shaders/spsm/lookup.comp): every pixel against its texel's
+// triangle (step 1, a fullscreen draw of lookup_texel.frag into the visibility and the branch
+// images), the undecided ones appended to list 1; list 1 against the neighbourhood, the still
+// undecided appended to list 2; list 2 by the reconstructed edge (steps 2 and 4 write the indirect
+// dispatches' arguments).
 class LookupPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
-        // Under refineFrame's bands (a scissor, which compute ignores) step 1 runs over the band's
-        // pixels, and the lists hold only theirs.
-        GLint box[4] = {0, 0, ctx.width(), ctx.height()};
-        if (glIsEnabled(GL_SCISSOR_TEST)) glGetIntegerv(GL_SCISSOR_BOX, box);
-        const glm::ivec4 band(box[0], box[1], box[0] + box[2], box[1] + box[3]);
         const GLuint counts = ctx.buffer("spsm.counts");
         glClearNamedBufferData(counts, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, ctx.buffer("spsm.list1"));
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, ctx.buffer("spsm.list2"));
         const Texture& map = ctx.texture("spsm");
+        Texture& visibility = ctx.texture("visibility");
+        Texture& branches = ctx.texture("spsm_branch");
+        auto setCommon = [&](const ShaderProgram& program) {
+            setShadowLookupUniforms(program, ctx.lightView(), map.width(), ctx.light());
+            program.set("biasConstTexels", float(ctx.param("bias_const")));
+            program.set("biasSlopeTexels", float(ctx.param("bias_slope")));
+            ctx.bindGBuffer(program);
+            glBindTextureUnit(3, map.id());
+            program.set("spsmMap", 3);
+        };
+        // Step 1: a fullscreen draw (under refineFrame's bands its scissor keeps the band's pixels,
+        // and the lists hold only theirs).
+        {
+            if (fboTextures_ != std::make_pair(visibility.id(), branches.id())) {
+                fbo_ = Framebuffer({&visibility, &branches}, nullptr);
+                fboTextures_ = {visibility.id(), branches.id()};
+            }
+            const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "spsm/lookup_texel.frag", {});
+            program.use();
+            setCommon(program);
+            fbo_.bind(ctx.width(), ctx.height());
+            drawFullscreenTriangle();
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        }
         const int lastStep = ctx.paramBool("reconstruction") ? 5 : 3;
-        for (int step = 1; step <= lastStep; ++step) {
+        for (int step = 2; step <= lastStep; ++step) {
             const ShaderProgram& program =
                 ctx.programs().compute("spsm/lookup.comp", {"LOOKUP_STEP " + std::to_string(step)});
             program.use();
@@ -104,32 +125,26 @@ public:
                 memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
                 continue;
             }
-            setShadowLookupUniforms(program, ctx.lightView(), map.width(), ctx.light());
-            program.set("biasConstTexels", float(ctx.param("bias_const")));
-            program.set("biasSlopeTexels", float(ctx.param("bias_slope")));
-            ctx.bindGBuffer(program);
-            glBindTextureUnit(3, map.id());
-            program.set("spsmMap", 3);
-            bindImage(0, ctx.texture("visibility"), 0, GL_WRITE_ONLY);
-            bindImage(1, ctx.texture("spsm_branch"), 0, GL_WRITE_ONLY);
-            if (step == 1) {
-                program.set("band", band);
-                program.dispatch(GLuint((band.z - band.x + 7) / 8), GLuint((band.w - band.y + 7) / 8));
-            } else {
-                if (step == 3) {
-                    program.set("neighbourhood", ctx.paramInt("neighbourhood"));
-                    program.set("reconstruction", ctx.paramBool("reconstruction") ? 1 : 0);
-                }
-                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, counts);
-                glDispatchComputeIndirect(GLintptr((step == 3 ? 1 : 5) * sizeof(GLuint)));
-                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+            setCommon(program);
+            bindImage(0, visibility, 0, GL_WRITE_ONLY);
+            bindImage(1, branches, 0, GL_WRITE_ONLY);
+            if (step == 3) {
+                program.set("neighbourhood", ctx.paramInt("neighbourhood"));
+                program.set("reconstruction", ctx.paramBool("reconstruction") ? 1 : 0);
             }
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, counts);
+            glDispatchComputeIndirect(GLintptr((step == 3 ? 1 : 5) * sizeof(GLuint)));
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
             memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         }
         for (GLuint unit = 0; unit < 3; ++unit) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unit, 0);
         memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                       GL_FRAMEBUFFER_BARRIER_BIT);
     }
+
+private:
+    Framebuffer fbo_;
+    std::pair<GLuint, GLuint> fboTextures_{0, 0};
 };
 
 // The light-view point of SPSM-space texel coordinate x at depth z, and in world space.
