@@ -1,7 +1,7 @@
 // The view-dependent selection of guennebaud2007 sec. 5.2 ("View dependent selection", Fig. 9): the
 // penumbra's object-space size from the smooth occluder depth z_occ (eq. 4), its screen-space size
 // (eq. 5) and the dithered choice of the pixels whose visibility is computed (eq. 6); and the codes
-// the `selection` internal stores per pixel. Shared by shaders/backprojection/select.comp,
+// the `selection` internal stores per pixel. Shared by shaders/backprojection/select.frag,
 // pack.comp, the evaluation shaders and the C++ tests (common GLSL/C++ subset: shared.h).
 #ifndef SHADOWLAB_SCREEN_SELECTION_GLSL
 #define SHADOWLAB_SCREEN_SELECTION_GLSL

@@ -264,7 +264,7 @@ class SelectionPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
         if (!ctx.applies(kScreenAdaptive)) return;
-        const ShaderProgram& program = ctx.programs().compute("backprojection/select.comp");
+        const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "backprojection/select.frag", {});
         program.use();
         const Texture& map = ctx.texture(shadowTestMap(ctx));
         setReceiverUniforms(ctx, program, map.width());
@@ -284,12 +284,23 @@ public:
         program.set("eta", float(ctx.height()) / (2.0f * std::tan(glm::radians(camera.fovYDegrees) * 0.5f)));
         program.set("cameraPosition", camera.position);
         program.set("cameraViewFromWorld", camera.viewFromWorld());
+        // A full-screen draw into the two images (select.frag: why not a compute pass).
         Texture& selection = ctx.texture("selection");
-        bindImage(0, selection, 0, GL_WRITE_ONLY);
-        bindImage(1, ctx.texture("visibility_sparse"), 0, GL_WRITE_ONLY);
-        program.dispatch(GLuint((selection.width() + 7) / 8), GLuint((selection.height() + 7) / 8));
-        memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        Texture& sparse = ctx.texture("visibility_sparse");
+        if (fboTextures_ != std::make_pair(selection.id(), sparse.id())) {
+            fbo_ = Framebuffer({&selection, &sparse}, nullptr);
+            fboTextures_ = {selection.id(), sparse.id()};
+        }
+        fbo_.bind(selection.width(), selection.height());
+        drawFullscreenTriangle();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                      GL_FRAMEBUFFER_BARRIER_BIT);
     }
+
+private:
+    Framebuffer fbo_;
+    std::pair<GLuint, GLuint> fboTextures_{0, 0};
 };
 
 class PackPass : public Pass {
