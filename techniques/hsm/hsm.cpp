@@ -4,6 +4,7 @@
 
 #include <cfloat>
 #include <cmath>
+#include <tuple>
 
 #include "error.h"
 #include "visibility/discontinuities.h"
@@ -30,25 +31,34 @@ public:
         // the map itself and the HSM levels side by side (hsmLevelAtlasX).
         const bool minLevels = ctx.param("light_multires") != 0.0;
         Texture* depthLevels = minLevels ? &ctx.texture("depth_levels") : nullptr;
-        std::vector<std::string> first{"FIRST_LEVEL"}, rest;
+        std::vector<std::string> rest;
         if (minLevels) {
-            first.push_back("MIN_LEVELS");
             rest.push_back("MIN_LEVELS");
             glCopyImageSubData(map.id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthLevels->id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0,
                                map.width(), map.height(), 1);
         }
         const int mapSize = map.width();
-        const ShaderProgram& firstProgram = ctx.programs().compute("backprojection/hsm.comp", first);
+        // HSM level 1, a quarter of the map's texels, as a full-screen draw (hsm_first.frag: why);
+        // its atlas copy starts at x = 0 (hsmLevelAtlasX(1)), so both targets share coordinates.
+        std::vector<std::string> firstDefines;
+        if (depthLevels) firstDefines.push_back("MIN_LEVELS");
+        const std::tuple<GLuint, GLuint> targets{hsm.id(), depthLevels ? depthLevels->id() : 0u};
+        if (firstTargets_ != targets) {
+            std::vector<Framebuffer::Attachment> colors{{&hsm, 0, -1}};
+            if (depthLevels) colors.push_back({depthLevels, 0, 1});
+            firstFbo_ = Framebuffer(colors, std::nullopt);
+            firstTargets_ = targets;
+        }
+        const ShaderProgram& firstProgram = ctx.programs().get("common/fullscreen.vert", "backprojection/hsm_first.frag", firstDefines);
+        firstProgram.use();
         glBindTextureUnit(0, map.id());
         firstProgram.set("shadowMap", 0);
-        bindImage(1, hsm, 0, GL_WRITE_ONLY);  // HSM level 1
-        if (depthLevels) {
-            bindImage(2, *depthLevels, 0, GL_WRITE_ONLY, 1);
-            firstProgram.set("atlasX", hsmLevelAtlasX(1, mapSize));
-        }
-        firstProgram.dispatch(GLuint((hsm.width() + 7) / 8), GLuint((hsm.height() + 7) / 8));
-        memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        firstFbo_.bind(hsm.width(), hsm.height());
+        drawFullscreenTriangle();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        memoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         const ShaderProgram& reduce = ctx.programs().compute("backprojection/hsm.comp", rest);
+        if (depthLevels) bindImage(2, *depthLevels, 0, GL_WRITE_ONLY, 1);  // the atlas's levels 2, 3, ...
         for (int k = 1; k < hsm.levels(); ++k) {
             bindImage(0, hsm, k - 1, GL_READ_ONLY);
             bindImage(1, hsm, k, GL_WRITE_ONLY);
@@ -58,6 +68,10 @@ public:
         }
         memoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     }
+
+private:
+    Framebuffer firstFbo_;
+    std::tuple<GLuint, GLuint> firstTargets_{0u, 0u};
 };
 
 // Kernel size (eq. 1 and refinement) and classification per pixel: shaders/backprojection/kernel.frag.

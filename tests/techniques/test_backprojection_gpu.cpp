@@ -101,7 +101,7 @@ TEST_F(BackprojectionGpu, SharedMathMatchesCpuOnAGrid) {
     EXPECT_GT(singular, 500);  // the singular cases were exercised
 }
 
-// The production HSM (shaders/backprojection/hsm.comp, run by ssm-contour's hsm pass) against a CPU
+// The production HSM (shaders/backprojection/hsm_first.frag and hsm.comp, run by ssm-contour's hsm pass) against a CPU
 // min/max pyramid built from the read-back shadow map by the paper's rule (each texel the min and
 // max of the 2x2 below, widened on an odd level's last row and column; the no-caster marker FLT_MAX
 // kept): equal texel for texel, at an odd and a power-of-two size. A pyramid built one level off,
