@@ -356,9 +356,9 @@ void build(ViewContext& ctx, ViewResult& result) {
                                      " triangles" + (hasEdge ? ", edge yellow" : "");
     auto shown = [&](const std::string& full) { return H < 320 ? shortCaption : full; };
     // The legend in one column, or two when one is taller than the panels (the window's short cells).
-    // (The caption strip as addCaptionStrip lays it out: captionStripLayout.)
-    auto panelHeightPx = [&](const std::string& text) { return H * (1.0 - captionStripLayout(ctx.out, shown(text)).share); };
-    const double panelPx = panelHeightPx(caption + "; shown at 99.9%, counts of every pixel");
+    // The caption strip's share of the picture as addCaptionStrip lays it out (captionStripLayout).
+    auto stripShare = [&](const std::string& text) { return captionStripLayout(ctx.out, shown(text)).share; };
+    const double panelPx = H * (1.0 - stripShare(caption + "; shown at 99.9%, counts of every pixel"));
     // Every step when they fit in one column; in a short picture only the steps that decided some
     // pixel (the others are nowhere in the map), in two columns if one is still too tall.
     std::vector<LegendEntry> drawnEntries = entries;
@@ -379,7 +379,6 @@ void build(ViewContext& ctx, ViewResult& result) {
     const double texShare = (1.0 - legendShare) * std::clamp(1.0 / (1.0 + frameAspect), 0.4, 0.6);
 
     // The branch map's magnification (picture pixels per frame pixel): under 1 not every pixel is drawn.
-    auto stripShare = [&](const std::string& text) { return captionStripLayout(ctx.out, shown(text)).share; };
     auto titleShareOf = [&](double strip) { return std::min(0.4, 1.6 * textPx(H) / ((1.0 - strip) * H)); };
     auto magnification = [&](double strip) {
         const double w = (1.0 - legendShare - texShare) * W, h = (1.0 - strip) * H, t = titleShareOf(strip);

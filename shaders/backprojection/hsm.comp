@@ -1,6 +1,6 @@
 // guennebaud2007 sec. 3 (after GBP06): the hierarchical shadow map (HSM), "built from high to low
 // resolution in a similar fashion to mipmapped textures. Each pixel stores both the minimum and
-// maximum covered depth values." One dispatch per level. HSM level 0 is the shadow map itself (min =
+// maximum covered depth values." One dispatch per level from level 2 on. HSM level 0 is the shadow map itself (min =
 // max = the stored depth), read in place; the pyramid texture holds HSM levels 1, 2, ... as its mip
 // levels 0, 1, ..., so a 8192^2 map needs no 512 MB copy of itself.
 // Level 1 comes from the shadow map by a full-screen draw (hsm_first.frag; the no-caster marker

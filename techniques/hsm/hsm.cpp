@@ -21,7 +21,8 @@ constexpr float kNoCaster = FLT_MAX;  // shadow_map.cpp's "no caster" marker (ke
 // guennebaud2007 sec. 3: "a hierarchical version of the shadow map (HSM) is built from high to low
 // resolution in a similar fashion to mipmapped textures. Each pixel stores both the minimum and
 // maximum covered depth values." HSM level 0 is the map itself; the pyramid texture holds levels 1,
-// 2, ... as its mip levels 0, 1, ...; one dispatch per level.
+// 2, ... as its mip levels 0, 1, ...; level 1 is a full-screen draw (hsm_first.frag), the others
+// one dispatch each (hsm.comp).
 class HsmPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
