@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The full soak (issue 11): every technique on every scene in turn, SHADOWLAB_SOAK_FRAMES frames
 # each (default 500), SHADOWLAB_SOAK_ROUNDS rounds (default 3), in one process; live GL objects,
-# counted GPU memory and resident memory must return to their level after the first round.
+# counted GPU memory must return to their level after the first round, resident memory after the
+# second (a one-off step of llvmpipe with a cold shader cache: tests/core/test_soak.cpp).
 #   scripts/soak.sh [frames] [rounds] [size]
 # Prints one line per round (the figures of docs/robustness.md). Uses build/shadowlab_tests.
 # With the 8 techniques of 2026-12 the defaults take about an hour on 2 cores (108,000 frames);

@@ -1,8 +1,13 @@
 // Soak (issue 11): every technique on every scene in turn, many frames, in one process. After the
 // first round (programs compiled, caches filled) the live GL objects, the GPU memory the renderer
 // counts and the resident memory must come back to their level after every further round, with no
-// GL error. The suite runs a short version (2 rounds of 4 frames); scripts/soak.sh runs the full
+// GL error. The suite runs a short version (3 rounds of 4 frames); scripts/soak.sh runs the full
 // one (SHADOWLAB_SOAK_FRAMES=500, SHADOWLAB_SOAK_ROUNDS=3) and prints the figures.
+// GL objects and counted GPU bytes are compared with the first round exactly; resident memory with
+// the second: with a cold Mesa shader cache, llvmpipe's process sometimes keeps one more step of about
+// 4 MB in the second round and is flat from then on (measured: 2 runs of 8 with a fresh
+// MESA_SHADER_CACHE_DIR, +4.1 MB in round 1, then within 0.1 MB over rounds 2-4; never with a warm
+// cache), a one-off step, not a growth per round; CI failed twice on it when round 1 was the check.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -96,7 +101,8 @@ class Soak : public testing::GLTest {};
 
 TEST_F(Soak, EveryTechniqueOnEverySceneReturnsToItsLevel) {
     const int frames = envInt("SHADOWLAB_SOAK_FRAMES", 4);
-    const int rounds = envInt("SHADOWLAB_SOAK_ROUNDS", 2);
+    const int rounds = envInt("SHADOWLAB_SOAK_ROUNDS", 3);
+    ASSERT_GE(rounds, 3) << "the resident-memory check needs two rounds before the one it checks";
     const int size = envInt("SHADOWLAB_SOAK_SIZE", 24);
     const LiveObjects before = liveObjects();
     const GpuMemoryStats gpuBefore = gpuMemory();
@@ -153,9 +159,9 @@ TEST_F(Soak, EveryTechniqueOnEverySceneReturnsToItsLevel) {
             if (round == 0) {
                 firstLive = live;
                 firstGpu = gpu;
-                firstRss = rss;
-                continue;
             }
+            if (round == 1) firstRss = rss;  // resident memory's level: after the second round (above)
+            if (round == 0) continue;
             EXPECT_EQ(live, firstLive) << "round " << round << ": " << describe(live) << " vs " << describe(firstLive);
             EXPECT_EQ(gpu.textures, firstGpu.textures) << "round " << round;
             EXPECT_EQ(gpu.buffers, firstGpu.buffers) << "round " << round;
@@ -165,7 +171,7 @@ TEST_F(Soak, EveryTechniqueOnEverySceneReturnsToItsLevel) {
             // per frame would be 1.2 MB per technique and scene over a 500-frame round).
             // (Under AddressSanitizer freed memory waits in its quarantine, up to 256 MB, so resident
             // memory says nothing there; LeakSanitizer checks leaks instead.)
-            if (!kAddressSanitizer)
+            if (!kAddressSanitizer && round >= 2)
                 EXPECT_LE(rss - firstRss, 4 * 1024) << "round " << round << ": resident grew from " << firstRss / 1024
                                                      << " MB to " << rss / 1024 << " MB";
         }
