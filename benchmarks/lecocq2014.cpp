@@ -5,6 +5,8 @@
 //     shadow_ms side by side in one interleaved run (must: spsm at most 1.3x hard's; the paper:
 //     14% overhead at 512^2);
 //  2. the same at the paper's 512^2 maps;
+//  1b. the floor: spsm with neighbourhood 1 and reconstruction off, the build and the look-up's
+//     first step alone (every pixel against its texel's triangle, nothing after), beside them;
 //  3. the Dai et al. 2008 comparison: spsm with reconstruction off and neighbourhood 3, 5, 7 beside
 //     spsm's defaults (accuracy against time), and conservative rasterization off;
 //  4. overlapping-occluders: the failure case the paper names (occluder fusion with one triangle
@@ -113,6 +115,12 @@ std::vector<Config> configsFor(int smSize, bool dai) {
     std::vector<Config> c;
     c.push_back({"hard sm " + s, "hard", {{"sm_size", s}}, {}, {}, {}, 0, 0});
     c.push_back({"spsm sm " + s, "spsm", {{"sm_size", s}}, {}, {}, {}, 0, 0});
+    // The floor: the build and the look-up's first step alone (neighbourhood 1, no reconstruction:
+    // a ray the texel's own triangle does not decide is lit). What the paper's method costs here
+    // before any neighbour or reconstruction: if this row is over 1.3x hard, no work on the later
+    // steps can bring spsm under it.
+    c.push_back({"spsm sm " + s + " floor: step 1 alone", "spsm",
+                 {{"sm_size", s}, {"neighbourhood", "1"}, {"reconstruction", "false"}}, {}, {}, {}, 0, 0});
     if (dai) {
         c.push_back({"spsm sm " + s + " conservative off", "spsm", {{"sm_size", s}, {"conservative", "false"}}, {}, {}, {}, 0, 0});
         for (int k : {3, 5, 7})

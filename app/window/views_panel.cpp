@@ -171,12 +171,27 @@ void Window::drawViewsPanel() {
         ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(2 * s, 2 * s));
         ImGui::Begin(("##view " + v->name + (enlarged ? " enlarged" : "")).c_str(), nullptr, fixed);
         ImGui::PopStyleVar();
+        // The title line: the name, then the two buttons at the line's right end, where they are in
+        // every cell. A 1024x768 cell's line has about 190 px: "skipped-pixels close enlarge" did
+        // not fit and the last button was cut; the name gives way (clipped) instead, since the
+        // view's picture prints its own title.
+        const char* second = isEnlarged ? "restore" : "enlarge";
+        const float gap = 3.0f * s;
+        const auto buttonWidth = [](const char* label) {
+            return ImGui::CalcTextSize(label).x + 2.0f * ImGui::GetStyle().FramePadding.x;
+        };
+        const float buttons = buttonWidth("close") + gap + buttonWidth(second);
+        const float line = ImGui::GetContentRegionAvail().x;
+        const float nameRoom = std::max(0.0f, line - buttons - gap);
+        const ImVec2 nameAt = ImGui::GetCursorScreenPos();
+        ImGui::PushClipRect(nameAt, ImVec2(nameAt.x + nameRoom, nameAt.y + ImGui::GetTextLineHeightWithSpacing()), true);
         ImGui::TextUnformatted(v->name.c_str());
-        ImGui::SameLine(0.0f, 3.0f * s);
+        ImGui::PopClipRect();
+        ImGui::SameLine(ImGui::GetCursorStartPos().x + std::max(0.0f, line - buttons));
         ImGui::PushID(v->name.c_str());
         ImGui::PushID(enlarged ? 1 : 0);
         if (ImGui::SmallButton("close")) toClose = v->name;
-        ImGui::SameLine(0.0f, 3.0f * s);  // tight: the title line of a 1024x768 cell has about 200 px
+        ImGui::SameLine(0.0f, gap);
         if (isEnlarged) {
             if (ImGui::SmallButton("restore")) restore = true;
         } else if (ImGui::SmallButton("enlarge")) {

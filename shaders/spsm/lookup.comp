@@ -34,7 +34,7 @@ layout(r32f, binding = 0) uniform writeonly image2D visibilityImage;
 layout(r32f, binding = 1) uniform writeonly image2D branchImage;
 layout(local_size_x = 64) in;
 #if LOOKUP_STEP == 3
-uniform int neighbourhood;   // k: odd, 3 (the paper) to 7 (Dai et al. 2008)
+uniform int neighbourhood;   // k: odd, 3 (the paper) to 7 (Dai et al. 2008); 1 the texel alone
 uniform int reconstruction;  // 1: reconstruct the shadow edge (the paper); 0: Dai et al. 2008
 #endif
 
@@ -86,7 +86,7 @@ void main() {
     for (int k = 0; k < 9; ++k) {
         ivec2 q = t + ivec2(k % 3 - 1, k / 3 - 1);
         bool inMap = all(greaterThanEqual(q, ivec2(0))) && all(lessThanEqual(q, ivec2(last)));
-        if (k != 4 && inMap && stored[k]) {
+        if (k != 4 && neighbourhood >= 3 && inMap && stored[k]) {  // neighbourhood 1: the texel alone
             int test = spsmTriangleTest(tris[k], x, receiver.z, bias);
             hit = hit || test == 2;
             covered = covered || test == 1;

@@ -7,6 +7,9 @@
 // imageStore writes lane by lane (on contact at 512x512 the branch image's store alone took 2.5-3 ms
 // of a 9-10 ms step; techniques/spsm/README.md).
 #include "lookup_common.glsl"
+// 0 with neighbourhood 1 and reconstruction off (the texel's triangle alone, as Dai et al. 2008's rule
+// has it: a ray that meets no stored triangle is lit): nothing is listed, this step decides every pixel.
+uniform int listUndecided;
 layout(location = 0) out float visibility;
 layout(location = 1) out float branch;
 
@@ -26,6 +29,10 @@ void main() {
         int test = spsmTriangleTest(spsmUnpack(w, shadowMapSize), q.x, q.z, q.bias);
         v = test == 2 ? 0.0 : 1.0;
         b = test == 1 ? SPSM_BRANCH_ON_TRIANGLE : (test == 2 ? SPSM_BRANCH_HIT : SPSM_BRANCH_UNDECIDED);
+    }
+    if (b == SPSM_BRANCH_UNDECIDED && listUndecided == 0) {
+        v = 1.0;
+        b = SPSM_BRANCH_FALLBACK;
     }
     visibility = v;
     branch = b;

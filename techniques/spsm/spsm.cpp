@@ -100,6 +100,10 @@ public:
             glBindTextureUnit(3, map.id());
             program.set("spsmMap", 3);
         };
+        // Neighbourhood 1 without reconstruction: the texel's triangle alone (step 1 decides every
+        // pixel; a ray it does not decide is lit, Dai et al.'s rule): the look-up's least work, what
+        // the paper's first test costs with nothing after it (the bench's floor row).
+        const bool texelAlone = ctx.paramInt("neighbourhood") == 1 && !ctx.paramBool("reconstruction");
         // Step 1: a fullscreen draw (under refineFrame's bands its scissor keeps the band's pixels,
         // and the lists hold only theirs).
         {
@@ -110,12 +114,13 @@ public:
             const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "spsm/lookup_texel.frag", {});
             program.use();
             setCommon(program);
+            program.set("listUndecided", texelAlone ? 0 : 1);
             fbo_.bind(ctx.width(), ctx.height());
             drawFullscreenTriangle();
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         }
-        const int lastStep = ctx.paramBool("reconstruction") ? 5 : 3;
+        const int lastStep = texelAlone ? 1 : ctx.paramBool("reconstruction") ? 5 : 3;
         for (int step = 2; step <= lastStep; ++step) {
             const ShaderProgram& program =
                 ctx.programs().compute("spsm/lookup.comp", {"LOOKUP_STEP " + std::to_string(step)});
@@ -444,9 +449,10 @@ const TechniqueDesc& spsmTechnique() {
                             "conservative rasterization of the build (the paper): every texel a triangle touches gets "
                             "it; off: the rasterizer's centre samples, which miss the edge texels",
                             ""});
-        ParamDesc k{"neighbourhood", "", T::Int, "texels", 3, 3, 7, 2,
+        ParamDesc k{"neighbourhood", "", T::Int, "texels", 3, 1, 7, 2,
                     "k x k texels whose triangles the ray is intersected with: 3 as the paper; 5 and 7 with "
-                    "reconstruction off are Dai et al. 2008's larger neighbourhoods",
+                    "reconstruction off are Dai et al. 2008's larger neighbourhoods; 1: the texel's own triangle "
+                    "alone (off: the first step and nothing after it, the look-up's least cost)",
                     ""};
         k.constraint = ParamDesc::Constraint::Odd;
         d.params.push_back(k);

@@ -572,9 +572,22 @@ SpsmFrame renderSpsm(const std::string& sceneName, int size, std::vector<std::pa
     return f;
 }
 
+// At the defaults, and with neighbourhood 1 (the texel's own triangle alone: without reconstruction
+// the first step decides every pixel and nothing is listed; with it, the 3x3 depth comparisons
+// still run and the neighbours' triangles are not intersected).
 TEST_F(SpsmGpu, CpuLookUpAgreesWithTheGpuOnEveryPixel) {
+    struct Setting {
+        int neighbourhood;
+        bool reconstruction;
+    };
+    for (Setting setting : {Setting{3, true}, Setting{1, false}, Setting{1, true}})
     for (const char* sceneName : {"square-occluder", "contact", "overlapping-occluders"}) {
-        SpsmFrame f = renderSpsm(sceneName, 160, {{"sm_size", "128"}});
+        SCOPED_TRACE("neighbourhood " + std::to_string(setting.neighbourhood) + ", reconstruction " +
+                     std::to_string(setting.reconstruction));
+        SpsmFrame f = renderSpsm(sceneName, 160,
+                                 {{"sm_size", "128"},
+                                  {"neighbourhood", std::to_string(setting.neighbourhood)},
+                                  {"reconstruction", setting.reconstruction ? "true" : "false"}});
         ASSERT_FALSE(f.words.empty());
         const TechniqueDesc& d = spsmTechnique();
         float biasConst = float(d.findParam("bias_const")->defaultValue), biasSlope = float(d.findParam("bias_slope")->defaultValue);
@@ -594,7 +607,8 @@ TEST_F(SpsmGpu, CpuLookUpAgreesWithTheGpuOnEveryPixel) {
                 float texelWorld = shadowTexelWorldSize(coord.z, f.view.tanHalfFov, float(f.smSize));
                 float cosTheta = std::abs(dot(n, normalize(f.light.position - p)));
                 float bias = shadowDepthBias(texelWorld, biasConst, biasSlope, cosTheta);
-                SpsmLookup l = spsmLookup(f.words, f.smSize, glm::vec2(coord) * float(f.smSize), coord.z, bias, 3, true);
+                SpsmLookup l = spsmLookup(f.words, f.smSize, glm::vec2(coord) * float(f.smSize), coord.z, bias,
+                                          setting.neighbourhood, setting.reconstruction);
                 if (l.branch != gpuBranch || l.visibility != f.visibility.at(x, y)) ++differ;
             }
         EXPECT_GT(pixels, 10000) << sceneName;
@@ -602,7 +616,10 @@ TEST_F(SpsmGpu, CpuLookUpAgreesWithTheGpuOnEveryPixel) {
         // pixels exactly on a threshold may go the other way.
         EXPECT_LE(differ, pixels / 500) << sceneName;
         EXPECT_GT(seen[1] + seen[2] + seen[7], pixels / 2) << sceneName << ": most pixels end at their own texel";
-        RecordProperty(std::string(sceneName) + "_differ", differ);
+        if (setting.neighbourhood == 1) EXPECT_EQ(seen[3] + seen[4], 0) << sceneName << ": no neighbour is intersected";
+        if (!setting.reconstruction) EXPECT_EQ(seen[5], 0) << sceneName << ": no edge is reconstructed";
+        if (setting.neighbourhood == 3 && setting.reconstruction)
+            RecordProperty(std::string(sceneName) + "_differ", differ);
     }
 }
 
@@ -713,6 +730,23 @@ TEST_F(SpsmRender, EachStepRunsOnlyOnThePixelsTheStepBeforeLeftUndecided) {
             EXPECT_EQ(pixels("reconstructed_edge"), 0u);
         }
     }
+    // Neighbourhood 1 without reconstruction (the bench's floor): the first step decides every
+    // pixel, those its texel's triangle leaves undecided lit (fallback), and nothing is listed.
+    RenderOptions o;
+    o.width = o.height = 256;
+    o.technique = "spsm";
+    o.lightSize = 0.0f;
+    o.sets = {{"sm_size", "256"}, {"neighbourhood", "1"}, {"reconstruction", "false"}};
+    Renderer r(scene, o);
+    r.renderFrame(0, {"visibility"});
+    nlohmann::json stats = r.stats({}, 1, 1);
+    const nlohmann::json& c = stats["lights"][0]["counters"]["spsm"];
+    EXPECT_EQ(c["step_pixels"]["neighbourhood"].get<size_t>(), 0u);
+    EXPECT_EQ(c["step_pixels"]["reconstruction"].get<size_t>(), 0u);
+    EXPECT_GT(c["pixels"]["fallback"].get<size_t>(), 256u * 256u / 100) << "what the neighbourhood step gets otherwise";
+    EXPECT_EQ(c["pixels"]["neighbour_hit"].get<size_t>() + c["pixels"]["neighbour_cover"].get<size_t>() +
+                  c["pixels"]["reconstructed_edge"].get<size_t>(),
+              0u);
 }
 
 TEST_F(SpsmRender, StatsReportMemoryAndTheRasterization) {
