@@ -1,7 +1,9 @@
 // The lesson player's ImGui panel (Dear ImGui 1.86): what the window draws beside the views.
 #include <imgui.h>
 
+#include <algorithm>
 #include <cctype>
+#include <initializer_list>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -82,7 +84,8 @@ ImVec4 statusColour(LessonPlayer::TaskStatus s) {
 
 }  // namespace
 
-void drawLessonPanel(LessonPlayer& player, float fontScale) {
+LessonPanelRects drawLessonPanel(LessonPlayer& player, float fontScale) {
+    LessonPanelRects rects;
     const Lesson& lesson = player.lesson();
     ImGui::Begin("Lesson", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     ImGui::SetWindowFontScale(fontScale);
@@ -113,10 +116,66 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
             ImGui::SameLine();
         return ImGui::Button(label);
     };
-    // The narration scrolls; the task and the buttons (up to two rows each) stay below it.
+    // What the step's claims came to: one line under the narration.
     const bool claims = !step.expects.empty();
-    ImGui::BeginChild("narration",
-                      ImVec2(0, -ImGui::GetFrameHeightWithSpacing() * ((step.task ? 8.0f : 3.0f) + (claims ? 1.5f : 0.0f))), false);
+    char claimsLine[256] = "";
+    bool claimsBad = false;
+    if (claims) {
+        size_t held = 0;
+        for (const LessonPlayer::ExpectResult& r : player.expectResults()) held += r.passed;
+        switch (player.expectStatus()) {
+            case LessonPlayer::ExpectStatus::Pending:
+                std::snprintf(claimsLine, sizeof claimsLine, "checking the step's claims: %s",
+                              player.expectWaiting().empty() ? "..." : player.expectWaiting().c_str());
+                break;
+            case LessonPlayer::ExpectStatus::Changed:
+                std::snprintf(claimsLine, sizeof claimsLine, "claims not checked: the step was changed first (R restores it)");
+                break;
+            default:
+                std::snprintf(claimsLine, sizeof claimsLine, "claims: %zu of %zu hold (measured here, listed under the narration)",
+                              held, player.expectResults().size());
+        }
+        claimsBad = player.expectStatus() == LessonPlayer::ExpectStatus::Checked && held < player.expectResults().size();
+    }
+    const LessonPlayer::Feedback& feedback = player.feedback();
+    const std::string taskPrompt = step.task ? "Try this: " + step.task->prompt : "";
+    const char* taskStatus = feedback.pending ? "checking ..." : statusText(feedback.status);
+    const char* playLabel = player.playing() ? "Pause (Space)" : "Play (Space)";
+    // The narration scrolls; everything under it (the claims line, the task with its buttons,
+    // status and message, the step buttons) keeps the height it takes at the panel's width, so the
+    // step buttons stay on screen: a fixed guess of rows cut "Next >" off at 1024x768 under a task
+    // whose prompt wraps to five lines.
+    {
+        const ImGuiStyle& style = ImGui::GetStyle();
+        const float width = ImGui::GetContentRegionAvail().x;
+        const auto text = [&](const char* t) { return ImGui::CalcTextSize(t, nullptr, false, width).y + style.ItemSpacing.y; };
+        const auto buttons = [&](std::initializer_list<const char*> labels) {  // rows as flowButton lays them out
+            float x = 0.0f;
+            int rows = 1;
+            for (const char* label : labels) {
+                const float w = ImGui::CalcTextSize(label).x + 2.0f * style.FramePadding.x;
+                if (x > 0.0f && x + style.ItemSpacing.x + w > width) {
+                    ++rows;
+                    x = w;
+                } else {
+                    x += (x > 0.0f ? style.ItemSpacing.x : 0.0f) + w;
+                }
+            }
+            return float(rows) * ImGui::GetFrameHeightWithSpacing();
+        };
+        const float separator = 1.0f + style.ItemSpacing.y;
+        float below = separator + (player.hasAnimation() ? buttons({"< Previous", "Restore step (R)", playLabel, "Next >"})
+                                                         : buttons({"< Previous", "Restore step (R)", "Next >"}));
+        if (claims) below += text(claimsLine);
+        if (step.task) {
+            below += separator + text(taskPrompt.c_str()) + buttons({"Check (C)", "Show me (M)"}) + text(taskStatus);
+            if (!feedback.message.empty()) below += text(feedback.message.c_str());
+        }
+        // At least three lines of narration whatever the rest takes (it scrolls).
+        const float least = 3.0f * ImGui::GetTextLineHeightWithSpacing();
+        below = std::min(below + style.ItemSpacing.y, std::max(0.0f, ImGui::GetContentRegionAvail().y - least));
+        ImGui::BeginChild("narration", ImVec2(0, -below), false);
+    }
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextUnformatted(reflowNarration(step.narration).c_str());
     // The step's claims as measured (lessons/README.md, expect), each with its value.
@@ -133,37 +192,19 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
     ImGui::PopTextWrapPos();
     ImGui::EndChild();
     if (claims) {
-        // One line under the narration: what the step's claims came to.
-        size_t held = 0;
-        for (const LessonPlayer::ExpectResult& r : player.expectResults()) held += r.passed;
-        char line[256];
-        switch (player.expectStatus()) {
-            case LessonPlayer::ExpectStatus::Pending:
-                std::snprintf(line, sizeof line, "checking the step's claims: %s",
-                              player.expectWaiting().empty() ? "..." : player.expectWaiting().c_str());
-                break;
-            case LessonPlayer::ExpectStatus::Changed:
-                std::snprintf(line, sizeof line, "claims not checked: the step was changed first (R restores it)");
-                break;
-            default:
-                std::snprintf(line, sizeof line, "claims: %zu of %zu hold (measured here, listed under the narration)", held,
-                              player.expectResults().size());
-        }
-        const bool bad = player.expectStatus() == LessonPlayer::ExpectStatus::Checked && held < player.expectResults().size();
-        ImGui::PushStyleColor(ImGuiCol_Text, bad ? ImVec4(1.0f, 0.45f, 0.35f, 1.0f) : ImVec4(0.8f, 0.8f, 0.8f, 1.0f));
-        ImGui::TextWrapped("%s", line);
+        ImGui::PushStyleColor(ImGuiCol_Text, claimsBad ? ImVec4(1.0f, 0.45f, 0.35f, 1.0f) : ImVec4(0.8f, 0.8f, 0.8f, 1.0f));
+        ImGui::TextWrapped("%s", claimsLine);
         ImGui::PopStyleColor();
     }
     if (step.task) {
         ImGui::Separator();
-        ImGui::TextWrapped("Try this: %s", step.task->prompt.c_str());
+        ImGui::TextWrapped("%s", taskPrompt.c_str());
         if (flowButton("Check (C)", true)) player.checkTask();
         if (flowButton("Show me (M)", false)) player.showMe();
-        const LessonPlayer::Feedback& f = player.feedback();
-        ImGui::PushStyleColor(ImGuiCol_Text, f.pending ? ImVec4(0.8f, 0.8f, 0.8f, 1.0f) : statusColour(f.status));
-        ImGui::TextWrapped("%s", f.pending ? "checking ..." : statusText(f.status));
+        ImGui::PushStyleColor(ImGuiCol_Text, feedback.pending ? ImVec4(0.8f, 0.8f, 0.8f, 1.0f) : statusColour(feedback.status));
+        ImGui::TextWrapped("%s", taskStatus);
         ImGui::PopStyleColor();
-        if (!f.message.empty()) ImGui::TextWrapped("%s", f.message.c_str());
+        if (!feedback.message.empty()) ImGui::TextWrapped("%s", feedback.message.c_str());
     }
     ImGui::Separator();
     ImGui::BeginDisabled(player.atFirst());
@@ -171,11 +212,15 @@ void drawLessonPanel(LessonPlayer& player, float fontScale) {
     ImGui::EndDisabled();
     if (flowButton("Restore step (R)", false)) player.restore();
     if (player.hasAnimation())
-        if (flowButton(player.playing() ? "Pause (Space)" : "Play (Space)", false)) player.setPlaying(!player.playing());
+        if (flowButton(playLabel, false)) player.setPlaying(!player.playing());
     ImGui::BeginDisabled(player.atLast());
     if (flowButton("Next >", false)) player.next();
     ImGui::EndDisabled();
+    const ImVec2 nextMin = ImGui::GetItemRectMin(), nextMax = ImGui::GetItemRectMax();
+    const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    rects = {{at.x, at.y, size.x, size.y}, {nextMin.x, nextMin.y, nextMax.x - nextMin.x, nextMax.y - nextMin.y}};
     ImGui::End();
+    return rects;
 }
 
 }  // namespace shadowlab

@@ -107,6 +107,12 @@ std::string animatedValueText(const LessonStep& step, double fraction);
 // The ImGui panel (app/lesson/panel.cpp): title, progress, narration wrapped at `fontScale`, the
 // task with its feedback, and buttons; keys: Right/PageDown next, Left/PageUp previous, R restore,
 // C check, M show me, Space play/pause. Call between ImGui::NewFrame() and ImGui::Render().
-void drawLessonPanel(LessonPlayer& player, float fontScale = 1.5f);
+// Where the panel put its step buttons, in screen pixels: the window's --report gives them, and a
+// test checks the buttons stay inside the panel however long the step's text below the narration is.
+struct LessonPanelRects {
+    float panel[4] = {0, 0, 0, 0};  // x, y, width, height of the panel
+    float next[4] = {0, 0, 0, 0};   // x, y, width, height of "Next >"
+};
+LessonPanelRects drawLessonPanel(LessonPlayer& player, float fontScale = 1.5f);
 
 }  // namespace shadowlab

@@ -311,7 +311,7 @@ void Window::drawLesson(double seconds) {
     lesson_->update(seconds);
     // The lesson's column on the right (window/layout.h): never over the image or the views.
     placeRegion(layout_.lesson);
-    drawLessonPanel(*lesson_, state_.presentation ? 1.0f : 1.3f);
+    lessonRects_ = drawLessonPanel(*lesson_, state_.presentation ? 1.0f : 1.3f);
 }
 
 }  // namespace shadowlab

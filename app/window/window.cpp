@@ -1104,6 +1104,11 @@ std::string Window::lastFrameReport() const {
     for (const auto& v : views_)
         if (v->frame) frames[v->name] = {v->frame->width(), v->frame->height()};
     j["view_frames"] = frames;
+    if (lesson_) {  // the lesson panel and its "Next >" button, x y width height in window pixels
+        const LessonPanelRects& l = lessonRects_;
+        j["lesson_panel"] = {{"panel", {l.panel[0], l.panel[1], l.panel[2], l.panel[3]}},
+                             {"next_button", {l.next[0], l.next[1], l.next[2], l.next[3]}}};
+    }
     if (!state_.lights.empty()) {
         const glm::vec3& p = state_.lights[size_t(state_.lightIndex)].position;
         j["light"] = {p.x, p.y, p.z};

@@ -28,6 +28,7 @@
 #include "image/image.h"
 #include "image/metrics.h"
 #include "lesson/lesson.h"
+#include "lesson/player.h"
 #include "scene/scene.h"
 #include "window/layout.h"
 
@@ -485,6 +486,7 @@ private:
     std::unique_ptr<VtkOffscreen> accuracyFrame_;
     std::unique_ptr<LessonHost> lessonHost_;
     std::unique_ptr<LessonPlayer> lesson_;
+    LessonPanelRects lessonRects_;  // where the lesson panel drew its step buttons (--report)
     clock::time_point lessonClock_{};
     Image referenceImage_;  // the complete reference's visibility, for the error view
     uint64_t referenceImageGeneration_ = ~0ull;

@@ -217,6 +217,38 @@ TEST(WindowLesson, ViewsResizedAfterTheUiWasBuiltStayDrawable) {
     EXPECT_NE(r.output.find("lesson: step 5: "), std::string::npos) << "step 5 was reached: " << r.output;
 }
 
+// The lesson panel's step buttons stay inside the panel at 1024x768 in every frame, on a step whose
+// task prompt wraps to five lines under two claims (backprojection's step 3): the narration above
+// them gives way and scrolls. A fixed guess of eight rows for the task cut "Next >" off there.
+TEST(WindowLesson, TheStepButtonsStayInsideThePanelUnderALongTask) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    const std::string script = tmp("buttons.txt"), report = tmp("buttons.json");
+    fs::remove(report);
+    std::ofstream(script) << "wait 2\nlesson next\nwait 2\nlesson next\nwait 3\n";
+    auto r = runXvfb("window --lesson backprojection --size 1024x768 --script " + script + " --report " + report);
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::ifstream in(report);
+    ASSERT_TRUE(in) << r.output;
+    const nlohmann::json frames = nlohmann::json::parse(in)["frames"];
+    ASSERT_FALSE(frames.empty());
+    ASSERT_NE(r.output.find("lesson: step 3: "), std::string::npos) << "step 3 (the task) was reached: " << r.output;
+    int checked = 0;
+    for (const nlohmann::json& f : frames) {
+        if (!f.contains("lesson_panel")) continue;
+        const nlohmann::json& panel = f["lesson_panel"]["panel"];
+        const nlohmann::json& next = f["lesson_panel"]["next_button"];
+        if (panel[3].get<float>() <= 0.0f) continue;  // not drawn yet
+        ++checked;
+        const float panelBottom = panel[1].get<float>() + panel[3].get<float>();
+        const float nextBottom = next[1].get<float>() + next[3].get<float>();
+        EXPECT_GT(next[3].get<float>(), 0.0f) << f.dump();
+        EXPECT_GE(next[1].get<float>(), panel[1].get<float>()) << f.dump();
+        EXPECT_LE(nextBottom, panelBottom) << "\"Next >\" ends below the panel: " << f.dump();
+        EXPECT_LE(next[0].get<float>() + next[2].get<float>(), panel[0].get<float>() + panel[2].get<float>()) << f.dump();
+    }
+    EXPECT_GT(checked, 3);
+}
+
 TEST(WindowLesson, BadLessonIsRefusedWithFileAndLineBeforeTheWindowOpens) {
     std::string bad = tmp("bad.md");
     std::ofstream(bad) << "# Bad\n\n```shadowlab\nscene square-occluder\ntechnique pcf\nset pcf_kernl 5\n```\n\n## One\n\nText.\n";
