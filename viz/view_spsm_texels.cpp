@@ -35,6 +35,7 @@
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkTextActor.h>
+#include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
@@ -451,7 +452,15 @@ void build(ViewContext& ctx, ViewResult& result) {
     }
     left3->AddActor(lineActor(pointCross, kPointRgb, 3.0f));
     boxCamera(left3, glm::dvec2(lo) + 0.5 * k, 0.5 * k + 0.25, texShare * W / panelH, titleShare);
-    left3->AddActor2D(titleActor("texels around (" + std::to_string(texel.x) + ", " + std::to_string(texel.y) + ")", H));
+    {
+        // Slivers reach past the k x k box into the title's band: the title on the panel's colour, so
+        // their outlines pass behind it rather than through its letters.
+        vtkSmartPointer<vtkTextActor> title =
+            titleActor("texels around (" + std::to_string(texel.x) + ", " + std::to_string(texel.y) + ")", H);
+        title->GetTextProperty()->SetBackgroundColor(0.12, 0.12, 0.14);
+        title->GetTextProperty()->SetBackgroundOpacity(1.0);
+        left3->AddActor2D(title);
+    }
 
     // Middle: the branch map.
     vtkRenderer* map = ctx.out.addRenderer();
