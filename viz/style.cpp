@@ -141,6 +141,25 @@ vtkSmartPointer<vtkLookupTable> paletteLut(Palette palette, double lo, double hi
 }
 
 // ---- colour bars -------------------------------------------------------------------------------------
+std::vector<std::string> colourBarTickLabels(double lo, double hi, int n) {
+    const double range = hi - lo;
+    auto label = [range](double v, int digits) {
+        if (std::abs(v) < 1e-9 * std::max(1.0, std::abs(range))) v = 0.0;
+        char s[40];
+        std::snprintf(s, sizeof s, "%.*g", digits, v);
+        return std::string(s);
+    };
+    std::vector<std::string> labels;
+    for (int digits = 3; digits <= 9; ++digits) {
+        labels.clear();
+        for (int i = 0; i < n; ++i) labels.push_back(label(n > 1 ? lo + range * i / (n - 1) : lo, digits));
+        bool distinct = true;
+        for (int i = 1; i < n; ++i) distinct = distinct && labels[size_t(i)] != labels[size_t(i) - 1];
+        if (distinct) break;
+    }
+    return labels;
+}
+
 namespace {
 
 constexpr const char* kNoData = "no data";
@@ -159,18 +178,9 @@ vtkSmartPointer<vtkTextActor> barText(const std::string& text, int px, bool bold
     return a;
 }
 
-std::string tickLabel(double v, double range) {
-    if (std::abs(v) < 1e-9 * std::max(1.0, range)) v = 0.0;
-    char s[32];
-    std::snprintf(s, sizeof s, "%.3g", v);
-    return s;
-}
-
 std::vector<std::string> tickLabels(vtkLookupTable* lut, int n) {
     double* r = lut->GetTableRange();
-    std::vector<std::string> labels;
-    for (int i = 0; i < n; ++i) labels.push_back(tickLabel(r[0] + (r[1] - r[0]) * i / (n - 1), r[1] - r[0]));
-    return labels;
+    return colourBarTickLabels(r[0], r[1], n);
 }
 
 bool showsNoData(vtkLookupTable* lut) {

@@ -48,6 +48,10 @@ vtkSmartPointer<vtkLookupTable> paletteLut(Palette palette, double lo, double hi
 // overlapping one another, the title or the swatch, never outside the viewport.
 void addColourBar(vtkRenderer* renderer, vtkLookupTable* lut, const std::string& title, int frameHeight,
                   bool horizontal = false);
+// The labels of n ticks evenly over [lo, hi]: three significant digits, more (up to nine) where
+// three would print two neighbouring ticks alike (a depth range of 1.99 .. 2.01 reads 1.99, 1.995,
+// 2, 2.005, 2.01, not 1.99, 1.99, 2, 2, 2.01).
+std::vector<std::string> colourBarTickLabels(double lo, double hi, int n);
 // The width a vertical colour bar needs so that its labels and the title's longest word fit.
 int colourBarWidthPx(vtkLookupTable* lut, const std::string& title, int frameHeight);
 

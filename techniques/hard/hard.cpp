@@ -14,10 +14,7 @@ public:
     explicit DepthTestPass(bool pcf) : pcf_(pcf) {}
     void execute(PassContext& ctx) override {
         Texture& visibility = ctx.texture("visibility");
-        if (fboTexture_ != visibility.id()) {
-            fbo_ = Framebuffer({&visibility}, nullptr);
-            fboTexture_ = visibility.id();
-        }
+        const Framebuffer& fbo = fbo_.get({&visibility}, nullptr);
         std::vector<std::string> defines;
         if (pcf_) defines.push_back("PCF");
         if (!pcf_ && ctx.paramBool("plane_test")) defines.push_back("PLANE_TEST");
@@ -31,15 +28,14 @@ public:
         ctx.bindGBuffer(program);
         glBindTextureUnit(3, map.id());
         program.set("shadowMap", 3);
-        fbo_.bind(ctx.width(), ctx.height());
+        fbo.bind(ctx.width(), ctx.height());
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
 private:
     bool pcf_;
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
+    FramebufferCache fbo_;
 };
 
 }  // namespace

@@ -43,18 +43,14 @@ public:
         // its atlas copy starts at x = 0 (hsmLevelAtlasX(1)), so both targets share coordinates.
         std::vector<std::string> firstDefines;
         if (depthLevels) firstDefines.push_back("MIN_LEVELS");
-        const std::tuple<GLuint, GLuint> targets{hsm.id(), depthLevels ? depthLevels->id() : 0u};
-        if (firstTargets_ != targets) {
-            std::vector<Framebuffer::Attachment> colors{{&hsm, 0, -1}};
-            if (depthLevels) colors.push_back({depthLevels, 0, 1});
-            firstFbo_ = Framebuffer(colors, std::nullopt);
-            firstTargets_ = targets;
-        }
+        std::vector<Framebuffer::Attachment> colors{{&hsm, 0, -1}};
+        if (depthLevels) colors.push_back({depthLevels, 0, 1});
+        const Framebuffer& firstFbo = firstFbo_.get(colors, std::nullopt);
         const ShaderProgram& firstProgram = ctx.programs().get("common/fullscreen.vert", "backprojection/hsm_first.frag", firstDefines);
         firstProgram.use();
         glBindTextureUnit(0, map.id());
         firstProgram.set("shadowMap", 0);
-        firstFbo_.bind(hsm.width(), hsm.height());
+        firstFbo.bind(hsm.width(), hsm.height());
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         memoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -71,8 +67,7 @@ public:
     }
 
 private:
-    Framebuffer firstFbo_;
-    std::tuple<GLuint, GLuint> firstTargets_{0u, 0u};
+    FramebufferCache firstFbo_;
 };
 
 // Kernel size (eq. 1 and refinement) and classification per pixel: shaders/backprojection/kernel.frag.
@@ -83,10 +78,7 @@ public:
         Texture& iterations = ctx.texture("kernel_iterations");
         Texture& classes = ctx.texture("classification");
         Texture& occluder = ctx.texture("occluder_depth");
-        if (fboTexture_ != size.id()) {
-            fbo_ = Framebuffer({&size, &iterations, &classes, &occluder}, nullptr);
-            fboTexture_ = size.id();
-        }
+        const Framebuffer& fbo = fbo_.get({&size, &iterations, &classes, &occluder}, nullptr);
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "backprojection/kernel.frag");
         program.use();
         const Texture& hsm = ctx.texture("hsm");
@@ -98,14 +90,13 @@ public:
         program.set("shadowMap", 4);
         program.set("hsmTopLevel", hsm.levels());
         program.set("lightWidthWorld", bpLightWidth(bpLightShape(ctx.light()), ctx.light().size));
-        fbo_.bind(ctx.width(), ctx.height());
+        fbo.bind(ctx.width(), ctx.height());
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
 private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
+    FramebufferCache fbo_;
 };
 
 }  // namespace
@@ -302,11 +293,8 @@ public:
         // A full-screen draw into the two images (select.frag: why not a compute pass).
         Texture& selection = ctx.texture("selection");
         Texture& sparse = ctx.texture("visibility_sparse");
-        if (fboTextures_ != std::make_pair(selection.id(), sparse.id())) {
-            fbo_ = Framebuffer({&selection, &sparse}, nullptr);
-            fboTextures_ = {selection.id(), sparse.id()};
-        }
-        fbo_.bind(selection.width(), selection.height());
+        const Framebuffer& fbo = fbo_.get({&selection, &sparse}, nullptr);
+        fbo.bind(selection.width(), selection.height());
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         memoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
@@ -314,8 +302,7 @@ public:
     }
 
 private:
-    Framebuffer fbo_;
-    std::pair<GLuint, GLuint> fboTextures_{0, 0};
+    FramebufferCache fbo_;
 };
 
 class PackPass : public Pass {
@@ -880,17 +867,14 @@ void BackprojectionVisibilityPass::execute(PassContext& ctx) {
     // The variant: backprojectionVisibilityDefines.
     const bool multires = ctx.param("light_multires") != 0.0;
     Texture* levels = multires ? &ctx.texture("light_levels") : nullptr;
-    GLuint key = visibility.id() ^ (levels ? levels->id() << 16 : 0u);
-    if (fboTexture_ != key) {
-        if (levels) fbo_ = Framebuffer({&visibility, levels}, nullptr);
-        else fbo_ = Framebuffer({&visibility}, nullptr);
-        fboTexture_ = key;
-    }
+    std::vector<const Texture*> targets{&visibility};
+    if (levels) targets.push_back(levels);
+    const Framebuffer& fbo = fbo_.get(targets, nullptr);
     const ShaderProgram& program =
         ctx.programs().get("common/fullscreen.vert", shader_, backprojectionVisibilityDefines(ctx));
     program.use();
     setUniforms(ctx, program);
-    fbo_.bind(ctx.width(), ctx.height());
+    fbo.bind(ctx.width(), ctx.height());
     drawFullscreenTriangle();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

@@ -68,8 +68,7 @@ private:
     void executeSparse(PassContext& ctx);
     std::string shader_, sparseShader_;
     Uniforms extra_;
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
+    FramebufferCache fbo_;
 };
 
 // ---- the CPU mirror (per-pixel records) ----------------------------------------------------------

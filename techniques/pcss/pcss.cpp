@@ -100,13 +100,9 @@ public:
     void execute(PassContext& ctx) override {
         Texture& out = ctx.texture("pcss_blockers");
         Texture& mask = ctx.texture("pcss_mask");
-        if (fboTexture_ != out.id() || fboMask_ != mask.id()) {
-            fbo_ = Framebuffer({&out}, &mask);
-            fboTexture_ = out.id();
-            fboMask_ = mask.id();
-        }
-        fbo_.bind(ctx.width(), ctx.height());
-        glClearNamedFramebufferfi(fbo_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+        const Framebuffer& fbo = fbo_.get({&out}, &mask);
+        fbo.bind(ctx.width(), ctx.height());
+        glClearNamedFramebufferfi(fbo.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
         drawStencilMarks(ctx, -1);  // 1: geometry
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/blocker_search.frag");
         program.use();
@@ -118,7 +114,7 @@ public:
         glBindTextureUnit(3, map.id());
         program.set("shadowMap", 3);
         const float none[4] = {-1.0f, 0.0f, 0.0f, 0.0f};  // what skipped pixels keep: no blocker
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, none);
+        glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, none);
         beginStencilTest(1);
         drawFullscreenTriangle();
         endStencilTest();
@@ -126,8 +122,7 @@ public:
     }
 
 private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0, fboMask_ = 0;
+    FramebufferCache fbo_;
 };
 
 // Step 2: PCF over the kernel of step 1.
@@ -136,12 +131,8 @@ public:
     void execute(PassContext& ctx) override {
         Texture& visibility = ctx.texture("visibility");
         Texture& mask = ctx.texture("pcss_mask");
-        if (fboTexture_ != visibility.id() || fboMask_ != mask.id()) {
-            fbo_ = Framebuffer({&visibility}, &mask);
-            fboTexture_ = visibility.id();
-            fboMask_ = mask.id();
-        }
-        fbo_.bind(ctx.width(), ctx.height());
+        const Framebuffer& fbo = fbo_.get({&visibility}, &mask);
+        fbo.bind(ctx.width(), ctx.height());
         glBindTextureUnit(4, ctx.texture("pcss_blockers").id());
         drawStencilMarks(ctx, 1, 0, -0.5f);  // 2: geometry with a blocker (z_avg >= 0)
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pcss/filter.frag");
@@ -155,7 +146,7 @@ public:
         program.set("blockers", 4);
         setLightFrontUniforms(program, ctx.light());
         const float lit[4] = {1.0f, 0.0f, 0.0f, 0.0f};  // what the background keeps
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, lit);
+        glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, lit);
         beginStencilTest(2);
         drawFullscreenTriangle();
         endStencilTest();
@@ -172,8 +163,7 @@ public:
     }
 
 private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0, fboMask_ = 0;
+    FramebufferCache fbo_;
 };
 
 }  // namespace

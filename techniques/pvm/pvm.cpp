@@ -72,10 +72,7 @@ public:
         Texture& edge0 = ctx.texture("pvem0");
         Texture& edge1 = ctx.texture("pvem1");
         Texture& zbuffer = ctx.texture("pvm_zbuffer");
-        if (fboKey_ != glm::uvec4(depth.id(), edge0.id(), edge1.id(), zbuffer.id())) {
-            fbo_ = Framebuffer({&depth, &edge0, &edge1}, &zbuffer);
-            fboKey_ = glm::uvec4(depth.id(), edge0.id(), edge1.id(), zbuffer.id());
-        }
+        const Framebuffer& fbo = fbo_.get({&depth, &edge0, &edge1}, &zbuffer);
         // Per vertex: the position, then the edge's end points with its index and the side.
         const MeshData& volumes = ctx.mesh("penumbra_volumes");
         const MeshData& lines = ctx.mesh("silhouettes");
@@ -91,19 +88,18 @@ public:
             vertices.push_back(glm::vec4(h1, side[tri]));
         }
         const int size = depth.width();
-        fbo_.bind(size, size);
+        fbo.bind(size, size);
         const float none = FLT_MAX, zero[4] = {0, 0, 0, 0}, depthClear = 0.0f;
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, &none);
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero);
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 2, zero);
-        glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &depthClear);
+        glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, &none);
+        glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 1, zero);
+        glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 2, zero);
+        glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &depthClear);
         draw_.draw(ctx, "pvm/volume.frag");
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
 private:
-    Framebuffer fbo_;
-    glm::uvec4 fboKey_{0u};
+    FramebufferCache fbo_;
     VolumeDraw draw_;
 };
 
@@ -113,10 +109,7 @@ class VisibilityPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
         Texture& visibility = ctx.texture("visibility");
-        if (fboTexture_ != visibility.id()) {
-            fbo_ = Framebuffer({&visibility}, nullptr);
-            fboTexture_ = visibility.id();
-        }
+        const Framebuffer& fbo = fbo_.get({&visibility}, nullptr);
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "pvm/visibility.frag");
         program.use();
         const Light& light = ctx.light();
@@ -138,14 +131,13 @@ public:
         program.set("edgeMap0", 5);
         glBindTextureUnit(6, ctx.texture("pvem1").id());
         program.set("edgeMap1", 6);
-        fbo_.bind(ctx.width(), ctx.height());
+        fbo.bind(ctx.width(), ctx.height());
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
 private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
+    FramebufferCache fbo_;
 };
 
 glm::vec4 texelOf(const Texture& texture, glm::ivec2 t) {

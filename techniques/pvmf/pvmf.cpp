@@ -88,10 +88,7 @@ public:
     void execute(PassContext& ctx) override {
         Texture& mask = ctx.texture("pvmf_mask");
         Texture& zbuffer = ctx.texture("pvmf_zbuffer");
-        if (fboKey_ != glm::uvec2(mask.id(), zbuffer.id())) {
-            fbo_ = Framebuffer({&mask}, &zbuffer);
-            fboKey_ = glm::uvec2(mask.id(), zbuffer.id());
-        }
+        const Framebuffer& fbo = fbo_.get({&mask}, &zbuffer);
         // Per vertex (pvm/volume.vert's layout): the position, then d_e in the first attribute's w.
         const MeshData& volumes = ctx.mesh("penumbra_volumes");
         const std::vector<float>& edgeDistance = volumes.primitiveAttributes[3].second;
@@ -102,17 +99,16 @@ public:
             vertices.push_back(glm::vec4(0.0f));
         }
         const int size = mask.width();
-        fbo_.bind(size, size);
+        fbo.bind(size, size);
         const float none[4] = {FLT_MAX, 0.0f, 0.0f, 0.0f}, depthClear = 0.0f;
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, none);
-        glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &depthClear);
+        glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, none);
+        glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &depthClear);
         draw_.draw(ctx, "pvmf/mask.frag");
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
 private:
-    Framebuffer fbo_;
-    glm::uvec2 fboKey_{0u};
+    FramebufferCache fbo_;
     VolumeDraw draw_;
 };
 

@@ -15,12 +15,9 @@ class AccumulatePass : public Pass {
 public:
     void execute(PassContext& ctx) override {
         Texture& visibility = ctx.texture("visibility");
-        if (fboTexture_ != visibility.id()) {
-            fbo_ = Framebuffer({&visibility}, nullptr);
-            fboTexture_ = visibility.id();
-        }
+        const Framebuffer& fbo = fbo_.get({&visibility}, nullptr);
         const float zero = 0.0f;
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, &zero);
+        glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, &zero);
         int samples = ctx.paramInt("samples");
         bool secondDepth = ctx.paramBool("second_depth");
         const Texture& first = ctx.texture("sample_shadow_map");
@@ -56,7 +53,7 @@ public:
             ctx.bindGBuffer(program);
             glBindTextureUnit(3, tested.id());
             program.set("shadowMap", 3);
-            fbo_.bind(ctx.width(), ctx.height());
+            fbo.bind(ctx.width(), ctx.height());
             drawFullscreenTriangle();
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             progress.update(size_t(s + 1), size_t(samples));
@@ -65,8 +62,7 @@ public:
 
 private:
     ShadowMapRenderer shadowMaps_;
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
+    FramebufferCache fbo_;
 };
 
 }  // namespace

@@ -47,11 +47,7 @@ public:
     void execute(PassContext& ctx) override {
         Texture& map = ctx.texture("spsm");
         Texture& zbuffer = ctx.texture("spsm_zbuffer");
-        if (fboTexture_ != map.id() || fboDepth_ != zbuffer.id()) {
-            fbo_ = Framebuffer({&map}, &zbuffer);
-            fboTexture_ = map.id();
-            fboDepth_ = zbuffer.id();
-        }
+        const Framebuffer& fbo = fbo_.get({&map}, &zbuffer);
         bool conservative = ctx.paramBool("conservative");
         GLenum hardware = conservative ? hardwareConservativeCap() : 0;
         std::vector<std::string> defines;
@@ -60,11 +56,11 @@ public:
             ctx.programs().get("spsm/build.vert", "spsm/build.frag", defines, "spsm/build.geom");
         program.use();
         setSpsmSpaceUniforms(program, ctx.lightView(), map.width());
-        fbo_.bind(map.width(), map.height());
+        fbo.bind(map.width(), map.height());
         const GLuint none[4] = {0u, 0u, 0u, 0u};
         const float zero = 0.0f;
-        glClearNamedFramebufferuiv(fbo_.id(), GL_COLOR, 0, none);
-        glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &zero);
+        glClearNamedFramebufferuiv(fbo.id(), GL_COLOR, 0, none);
+        glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &zero);
         if (hardware) glEnable(hardware);
         ctx.drawScene(program, true);
         if (hardware) glDisable(hardware);
@@ -72,8 +68,7 @@ public:
     }
 
 private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0, fboDepth_ = 0;
+    FramebufferCache fbo_;
 };
 
 // Pass 2: the look-up in five steps (shaders/spsm/lookup.comp): every pixel against its texel's
@@ -107,15 +102,12 @@ public:
         // Step 1: a fullscreen draw (under refineFrame's bands its scissor keeps the band's pixels,
         // and the lists hold only theirs).
         {
-            if (fboTextures_ != std::make_pair(visibility.id(), branches.id())) {
-                fbo_ = Framebuffer({&visibility, &branches}, nullptr);
-                fboTextures_ = {visibility.id(), branches.id()};
-            }
+            const Framebuffer& fbo = fbo_.get({&visibility, &branches}, nullptr);
             const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "spsm/lookup_texel.frag", {});
             program.use();
             setCommon(program);
             program.set("listUndecided", texelAlone ? 0 : 1);
-            fbo_.bind(ctx.width(), ctx.height());
+            fbo.bind(ctx.width(), ctx.height());
             drawFullscreenTriangle();
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             memoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -148,8 +140,7 @@ public:
     }
 
 private:
-    Framebuffer fbo_;
-    std::pair<GLuint, GLuint> fboTextures_{0, 0};
+    FramebufferCache fbo_;
 };
 
 // The light-view point of SPSM-space texel coordinate x at depth z, and in world space.

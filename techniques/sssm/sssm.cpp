@@ -50,27 +50,18 @@ class Targets {
 public:
     // Colour targets `names`, and the stencil marks of sssm_mask (pcss.h) as depth-stencil.
     void bind(PassContext& ctx, const std::vector<std::string>& names) {
-        std::vector<Texture*> targets;
-        std::vector<GLuint> ids;
-        for (const std::string& n : names) {
-            targets.push_back(&ctx.texture(n));
-            ids.push_back(targets.back()->id());
-        }
-        Texture& mask = ctx.texture("sssm_mask");
-        ids.push_back(mask.id());
-        if (ids != ids_) {
-            fbo_ = Framebuffer(std::vector<const Texture*>(targets.begin(), targets.end()), &mask);
-            ids_ = ids;
-        }
-        fbo_.bind(ctx.width(), ctx.height());
+        std::vector<const Texture*> targets;
+        for (const std::string& n : names) targets.push_back(&ctx.texture(n));
+        fbo_ = &cache_.get(targets, &ctx.texture("sssm_mask"));
+        fbo_->bind(ctx.width(), ctx.height());
     }
-    void clearStencil() { glClearNamedFramebufferfi(fbo_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0); }
+    void clearStencil() { glClearNamedFramebufferfi(fbo_->id(), GL_DEPTH_STENCIL, 0, 1.0f, 0); }
     // Clears draw buffer `index` to `value`: what the pixels a shader discards keep.
-    void clear(int index, glm::vec4 value) { glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, index, &value.x); }
+    void clear(int index, glm::vec4 value) { glClearNamedFramebufferfv(fbo_->id(), GL_COLOR, index, &value.x); }
 
 private:
-    Framebuffer fbo_;
-    std::vector<GLuint> ids_;
+    FramebufferCache cache_;
+    const Framebuffer* fbo_ = nullptr;  // the cache's, as the last bind left it
 };
 
 // Step 1: hard shadows and horizontal blocker rows (partial_blocker_sum, partial_blocker_count).

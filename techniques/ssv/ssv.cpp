@@ -270,25 +270,21 @@ public:
     void execute(PassContext& ctx) override {
         Texture& depth = ctx.texture("volume_depth");
         Texture& count = ctx.texture("hard_count");
-        if (depthId_ != depth.id() || countId_ != count.id()) {
-            depthFbo_ = Framebuffer({}, &depth);
-            countFbo_ = Framebuffer({&count}, nullptr);
-            depthId_ = depth.id();
-            countId_ = count.id();
-        }
+        const Framebuffer& depthFbo = depthFbo_.get({}, &depth);
+        const Framebuffer& countFbo = countFbo_.get({&count}, nullptr);
         const Camera& camera = ctx.camera();
         const VBuffer vb = vbufferOf(ctx);
         const glm::mat4 clipFromWorld =
             vb.clipAdjust * infiniteClipFromView(camera, float(ctx.width()) / float(ctx.height())) * camera.viewFromWorld();
         // The camera's depth of every G-buffer point, under the infinite projection.
-        depthFbo_.bind(ctx.width(), ctx.height());
+        depthFbo.bind(ctx.width(), ctx.height());
         const VBufferViewport viewport(vb);
         PipelineState write = PipelineState::fullscreen();
         write.depthTest = true;
         write.depthFunc = GL_ALWAYS;
         for (bool& c : write.colorMask) c = false;
         write.apply();
-        glClearNamedFramebufferfi(depthFbo_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+        glClearNamedFramebufferfi(depthFbo.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
         const ShaderProgram& depthProgram = ctx.programs().get("common/fullscreen.vert", "ssv/depth.frag");
         depthProgram.use();
         ctx.bindGBuffer(depthProgram);
@@ -305,15 +301,15 @@ public:
         vertices_.upload(vertices);
         const ShaderProgram& program = ctx.programs().get("ssv/volume.vert", "ssv/empty.frag");
         const ShaderProgram& read = ctx.programs().get("common/fullscreen.vert", "ssv/count.frag");
-        countFbo_.bind(ctx.width(), ctx.height());
+        countFbo.bind(ctx.width(), ctx.height());
         glViewport(0, 0, vb.width, vb.height);
         const float zero[4] = {0, 0, 0, 0};
-        glClearNamedFramebufferfv(countFbo_.id(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferfv(countFbo.id(), GL_COLOR, 0, zero);
         for (size_t k = 0; k < subLights.size(); ++k) {
-            depthFbo_.bind(ctx.width(), ctx.height());
+            depthFbo.bind(ctx.width(), ctx.height());
             glViewport(0, 0, vb.width, vb.height);
             PipelineState::fullscreen().apply();
-            glClearNamedFramebufferiv(depthFbo_.id(), GL_STENCIL, 0, std::array<GLint, 1>{0}.data());
+            glClearNamedFramebufferiv(depthFbo.id(), GL_STENCIL, 0, std::array<GLint, 1>{0}.data());
             if (first[k + 1] > first[k]) {
                 zFailState().apply();
                 program.use();
@@ -325,7 +321,7 @@ public:
             PipelineState readState = PipelineState::fullscreen();
             for (int c = 0; c < 4; ++c) readState.colorMask[c] = c == int(k);
             readState.apply();
-            countFbo_.bind(ctx.width(), ctx.height());
+            countFbo.bind(ctx.width(), ctx.height());
             glViewport(0, 0, vb.width, vb.height);
             glTextureParameteri(depth.id(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
             read.use();
@@ -340,8 +336,7 @@ public:
     }
 
 private:
-    Framebuffer depthFbo_, countFbo_;
-    GLuint depthId_ = 0, countId_ = 0;
+    FramebufferCache depthFbo_, countFbo_;
     Vec4Stream vertices_;
     std::vector<glm::vec4> scratch_;  // the volume's vertices, reused frame to frame
 };
@@ -353,18 +348,14 @@ public:
     void execute(PassContext& ctx) override {
         Texture& depth = ctx.texture("volume_depth");
         Texture& coverage = ctx.texture("wedge_coverage");
-        if (depthId_ != depth.id() || coverageId_ != coverage.id()) {
-            fbo_ = Framebuffer({&coverage}, &depth);
-            depthId_ = depth.id();
-            coverageId_ = coverage.id();
-        }
-        fbo_.bind(ctx.width(), ctx.height());
+        const Framebuffer& fbo = fbo_.get({&coverage}, &depth);
+        fbo.bind(ctx.width(), ctx.height());
         const VBuffer vb = vbufferOf(ctx);
         const VBufferViewport viewport(vb);
         PipelineState::fullscreen().apply();
         const float zero[4] = {0, 0, 0, 0};
-        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero);
-        glClearNamedFramebufferiv(fbo_.id(), GL_STENCIL, 0, std::array<GLint, 1>{0}.data());
+        glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferiv(fbo.id(), GL_STENCIL, 0, std::array<GLint, 1>{0}.data());
         const Light& light = ctx.light();
         const bool penumbra = ctx.paramBool("penumbra");
         const MeshData& edges = ctx.mesh("silhouettes");
@@ -461,8 +452,7 @@ public:
     }
 
 private:
-    Framebuffer fbo_;
-    GLuint depthId_ = 0, coverageId_ = 0;
+    FramebufferCache fbo_;
     Vec4Stream edgeBuffer_, vertices_;
     std::vector<glm::vec4> edgeScratch_, vertexScratch_;  // reused frame to frame
 };
@@ -473,10 +463,7 @@ class VisibilityPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
         Texture& visibility = ctx.texture("visibility");
-        if (fboTexture_ != visibility.id()) {
-            fbo_ = Framebuffer({&visibility}, nullptr);
-            fboTexture_ = visibility.id();
-        }
+        const Framebuffer& fbo = fbo_.get({&visibility}, nullptr);
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "ssv/visibility.frag");
         program.use();
         ctx.bindGBuffer(program);
@@ -498,14 +485,13 @@ public:
         const VBuffer vb = vbufferOf(ctx);
         program.set("vbufferDivisor", vb.k);
         program.set("vbufferSize", glm::ivec2(vb.width, vb.height));
-        fbo_.bind(ctx.width(), ctx.height());
+        fbo.bind(ctx.width(), ctx.height());
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
 private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
+    FramebufferCache fbo_;
 };
 
 // ---- the per-pixel record ------------------------------------------------------------------------

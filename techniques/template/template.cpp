@@ -14,10 +14,7 @@ class TemplateVisibilityPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
         Texture& visibility = ctx.texture("visibility");
-        if (fboTexture_ != visibility.id()) {
-            fbo_ = Framebuffer({&visibility}, nullptr);
-            fboTexture_ = visibility.id();
-        }
+        const Framebuffer& fbo = fbo_.get({&visibility}, nullptr);
         const ShaderProgram& program = ctx.programs().get("common/fullscreen.vert", "template/visibility.frag");
         program.use();
         const Texture& map = ctx.texture(shadowTestMap(ctx));
@@ -29,13 +26,12 @@ public:
         ctx.bindGBuffer(program);  // units 0-2
         glBindTextureUnit(3, map.id());
         program.set("shadowMap", 3);
-        fbo_.bind(ctx.width(), ctx.height());
+        fbo.bind(ctx.width(), ctx.height());
         drawFullscreenTriangle();
     }
 
 private:
-    Framebuffer fbo_;
-    GLuint fboTexture_ = 0;
+    FramebufferCache fbo_;
 };
 
 }  // namespace

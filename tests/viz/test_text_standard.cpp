@@ -255,6 +255,25 @@ TEST_F(TextStandard, TheAccuracyTimeChartKeepsTheStandardAndLeavesNoLabelOverAno
     }
 }
 
+// A colour bar's ticks never print the same number twice: the hsm view's depth bar over
+// 1.99 .. 2.01 (a plate seen from a light 2 units away) read "2.01, 2, 2, 1.99, 1.99" with three
+// significant digits everywhere. Wide ranges keep three digits.
+TEST(ColourBarTicks, NeighbouringTicksNeverPrintAlike) {
+    EXPECT_EQ(colourBarTickLabels(0.0, 1.0, 5), (std::vector<std::string>{"0", "0.25", "0.5", "0.75", "1"}));
+    EXPECT_EQ(colourBarTickLabels(-0.999, 0.999, 3), (std::vector<std::string>{"-0.999", "0", "0.999"}));
+    EXPECT_EQ(colourBarTickLabels(100.0, 2000.0, 2), (std::vector<std::string>{"100", "2e+03"}));
+    for (double lo : {1.99, 2.0, 1234.5, -3.0, 1e-6})
+        for (double width : {0.02, 0.001, 1e-5})
+            for (int n = 2; n <= 5; ++n) {
+                const std::vector<std::string> labels = colourBarTickLabels(lo, lo + width * std::max(1.0, std::abs(lo)), n);
+                ASSERT_EQ(labels.size(), size_t(n));
+                for (int i = 1; i < n; ++i)
+                    EXPECT_NE(labels[size_t(i)], labels[size_t(i) - 1]) << "range " << lo << " + " << width << ", " << n << " ticks";
+            }
+    const std::vector<std::string> depth = colourBarTickLabels(1.99, 2.01, 5);
+    EXPECT_EQ(depth, (std::vector<std::string>{"1.99", "1.995", "2", "2.005", "2.01"}));
+}
+
 TEST(Palettes, NeverReachTheBackgroundGreyAndAreOrderedInLightness) {
     for (Palette p : {Palette::Visibility, Palette::SignedError, Palette::AbsoluteError, Palette::Depth, Palette::KernelSize}) {
         float nearest = 1.0f;

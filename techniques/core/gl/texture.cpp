@@ -158,6 +158,27 @@ void Framebuffer::bind(int width, int height) const {
     glViewport(0, 0, width, height);
 }
 
+const Framebuffer& FramebufferCache::get(const std::vector<Framebuffer::Attachment>& colors,
+                                         std::optional<Framebuffer::Attachment> depth) {
+    std::vector<GLint> key;
+    auto add = [&key](const Framebuffer::Attachment& a) {
+        key.insert(key.end(), {GLint(a.texture ? a.texture->id() : 0u), a.level, a.layer});
+    };
+    for (const Framebuffer::Attachment& c : colors) add(c);
+    key.push_back(-2);  // between the colours and the depth
+    if (depth) add(*depth);
+    if (!fbo_.id() || key != key_) {
+        fbo_ = Framebuffer(colors, depth);
+        key_ = std::move(key);
+    }
+    return fbo_;
+}
+
+const Framebuffer& FramebufferCache::get(const std::vector<const Texture*>& colors, const Texture* depth) {
+    return get(wholeLevels(colors), depth ? std::optional<Framebuffer::Attachment>(Framebuffer::Attachment{depth, 0, -1})
+                                          : std::nullopt);
+}
+
 // ---- read-back and upload --------------------------------------------------------------------------
 // GL's row 0 is the bottom of the picture; Image's row 0 is the top.
 template <class T>

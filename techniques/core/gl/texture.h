@@ -80,6 +80,19 @@ private:
     GLuint id_ = 0;
 };
 
+// A pass's framebuffer, built at its first use and again only when what it attaches changes (the
+// resource pool hands a pass other textures after a resize or a parameter change), keyed by each
+// attachment's texture id, level and layer. Every pass that draws into pool textures keeps one.
+class FramebufferCache {
+public:
+    const Framebuffer& get(const std::vector<Framebuffer::Attachment>& colors, std::optional<Framebuffer::Attachment> depth);
+    const Framebuffer& get(const std::vector<const Texture*>& colors, const Texture* depth);
+
+private:
+    std::vector<GLint> key_;
+    Framebuffer fbo_;
+};
+
 // Read-backs into client memory: no pixel-pack buffer bound (VTK's views leave one bound now and
 // then, and a read would land in it), tight rows. The read functions below call it.
 void resetPackState();
