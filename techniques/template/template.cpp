@@ -10,6 +10,8 @@ namespace {
 
 // A pass is an object: it may keep what outlives one run (here a framebuffer); its resources
 // belong to the pool and come from ctx, which checks each access against the pass's declaration.
+// The pool may hand the pass other textures from one run to the next (a resize, sm_size changed):
+// a FramebufferCache (gl/texture.h) rebuilds the framebuffer exactly then.
 class TemplateVisibilityPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
