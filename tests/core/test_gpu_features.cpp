@@ -198,6 +198,42 @@ TEST_F(GpuFeatures, ArrayLayersWrittenThroughFramebuffers) {
         }
 }
 
+// FramebufferCache (gl/texture.h), what every pass keeps: the same framebuffer while its attachments
+// stay the same, a new one (built before the old is deleted, so its name differs) as soon as a
+// texture, the colours' order, the depth, a level or a layer changes; GL reports the new attachment.
+TEST_F(GpuFeatures, FramebufferCacheRebuildsExactlyWhenAnAttachmentChanges) {
+    Texture a = Texture::create2D(8, 8, Format::R32F), b = Texture::create2D(8, 8, Format::R32F);
+    Texture depth = Texture::create2D(8, 8, Format::DEPTH32F);
+    Texture array = Texture::createArray(8, 8, 2, Format::R32F, 2);
+    auto attached = [](const Framebuffer& f, GLenum point, GLenum what) {
+        GLint v = -1;
+        glGetNamedFramebufferAttachmentParameteriv(f.id(), point, what, &v);
+        return v;
+    };
+    FramebufferCache cache;
+    GLuint last = cache.get({&a}, nullptr).id();
+    EXPECT_EQ(cache.get({&a}, nullptr).id(), last);  // nothing changed: no rebuild
+    auto changes = [&](const Framebuffer& f, const char* what) {
+        EXPECT_NE(f.id(), last) << what;
+        last = f.id();
+        return &f;
+    };
+    const Framebuffer* f = changes(cache.get({&b}, nullptr), "another texture");
+    EXPECT_EQ(attached(*f, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME), GLint(b.id()));
+    f = changes(cache.get({&b}, &depth), "a depth attachment");
+    EXPECT_EQ(attached(*f, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME), GLint(depth.id()));
+    changes(cache.get({&a, &b}, &depth), "a second colour");
+    f = changes(cache.get({&b, &a}, &depth), "the colours' order");
+    EXPECT_EQ(attached(*f, GL_COLOR_ATTACHMENT1, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME), GLint(a.id()));
+    EXPECT_EQ(cache.get({&b, &a}, &depth).id(), last);
+    changes(cache.get({{&array, 0, 0}}, std::nullopt), "an array's layer 0");
+    f = changes(cache.get({{&array, 0, 1}}, std::nullopt), "layer 1");
+    EXPECT_EQ(attached(*f, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LAYER), 1);
+    f = changes(cache.get({{&array, 1, 1}}, std::nullopt), "level 1");
+    EXPECT_EQ(attached(*f, GL_COLOR_ATTACHMENT0, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL), 1);
+    EXPECT_EQ(cache.get({{&array, 1, 1}}, std::nullopt).id(), last);
+}
+
 // ---- integer images ------------------------------------------------------------------------------
 TEST_F(GpuFeatures, IntegerImagesReadBackExactly) {
     const int w = 13, h = 7;
