@@ -551,10 +551,10 @@ std::string sharedBudgetText(const AutoBudget& budget, const LightFeatures& feat
 }
 
 // The measured choice: every setting within the time budget (predicted), by predicted time, its
-// error measured; those within the error budget timed; the fastest of them taken. Nothing within
-// the budget: the most accurate measured.
+// error measured; those within the error budget timed side by side; the fastest of them taken
+// (equal times: the first by predicted time). Nothing within the budget: the most accurate measured.
 void chooseMeasured(const Calibration& cal, const LightFeatures& features, const AutoBudget& budget,
-                    const std::vector<Prediction>& predictions, const MeasureSetting& measure, double machineScale,
+                    const std::vector<Prediction>& predictions, const SettingTrials& trials, double machineScale,
                     TechniqueChoice& choice,
                     const std::function<void(const TechniqueDesc*, const std::vector<std::pair<std::string, std::string>>&)>& pick) {
     const std::string metric = budget.penumbra ? "penumbra RMSE" : "RMSE";
@@ -569,14 +569,20 @@ void chooseMeasured(const Calibration& cal, const LightFeatures& features, const
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return predictions[a].ms < predictions[b].ms; });
     std::vector<std::optional<double>> measured(predictions.size()), measuredMs(predictions.size());
     long best = -1, mostAccurate = -1;
+    std::vector<size_t> within;
     for (size_t s : order) {
-        const std::optional<MeasuredError> m = measure(s, false);
+        const std::optional<MeasuredError> m = trials.error(s);
         if (!m) continue;
         measured[s] = budget.penumbra ? m->rmsePenumbra : m->rmse;
         if (mostAccurate < 0 || *measured[s] < *measured[size_t(mostAccurate)]) mostAccurate = long(s);
-        if (*measured[s] > budget.error) continue;
-        const std::optional<MeasuredError> t = measure(s, true);
-        measuredMs[s] = t && t->ms >= 0.0 ? t->ms : predictions[s].ms;
+        if (*measured[s] <= budget.error) within.push_back(s);
+    }
+    // Timed together, side by side (trial.h): a time measured alone, or cached from another budget's
+    // choice, met another load of the machine.
+    const std::vector<double> ms = within.empty() ? std::vector<double>{} : trials.time(within);
+    for (size_t i = 0; i < within.size(); ++i) {
+        const size_t s = within[i];
+        measuredMs[s] = i < ms.size() && ms[i] >= 0.0 ? ms[i] : predictions[s].ms;
         if (best < 0 || *measuredMs[s] < *measuredMs[size_t(best)]) best = long(s);
     }
     std::string rule = "measured";
@@ -633,7 +639,7 @@ void chooseMeasured(const Calibration& cal, const LightFeatures& features, const
 }  // namespace
 
 TechniqueChoice chooseTechnique(const Calibration& cal, const LightFeatures& features, const AutoBudget& budget,
-                                int pixels, double machineScale, const MeasureSetting* measure) {
+                                int pixels, double machineScale, const SettingTrials* trials) {
     TechniqueChoice choice;
     const std::string metric = budget.penumbra ? "penumbra RMSE" : "RMSE";
     choice.report["budget"] = {{"error", budget.error}, {"on", budget.penumbra ? "penumbra" : "all"}};
@@ -685,8 +691,8 @@ TechniqueChoice chooseTechnique(const Calibration& cal, const LightFeatures& fea
     const bool outside = predictions.empty() || predictions[0].distance > kOutsideCalibration ||
                          features.penumbraPixels > 2.0 * widest;
     const bool timed = budget.timeMs > 0.0;
-    if (measure && *measure && !predictions.empty()) {
-        chooseMeasured(cal, features, budget, predictions, *measure, machineScale, choice, pick);
+    if (trials && trials->error && trials->time && !predictions.empty()) {
+        chooseMeasured(cal, features, budget, predictions, *trials, machineScale, choice, pick);
         return choice;
     }
     long best = -1;
@@ -839,14 +845,20 @@ const TechniqueDesc& autoTechnique() {
             trial.time = 0.0;
             TrialLog log;
             const int trialPixels = trialSize(in.width, in.height).width * trialSize(in.width, in.height).height;
-            const MeasureSetting measure = [&](size_t s, bool timed) -> std::optional<MeasuredError> {
-                MeasuredError e = measureSettingError(trial, cal.settings.at(s), log, timed);
-                if (e.ms >= 0.0) {  // timed at the trial size: put at the frame's by the calibration's split
-                    const double atTrial = predictSetting(cal, s, f, b.penumbra, trialPixels, scale).ms;
-                    const double atFrame = predictSetting(cal, s, f, b.penumbra, in.width * in.height, scale).ms;
-                    if (atTrial > 0.0) e.ms *= atFrame / atTrial;
+            SettingTrials measure;
+            measure.error = [&](size_t s) -> std::optional<MeasuredError> {
+                return measureSettingError(trial, cal.settings.at(s), log);
+            };
+            measure.time = [&](const std::vector<size_t>& settings) {
+                std::vector<CalibrationSetting> timed;
+                for (size_t s : settings) timed.push_back(cal.settings.at(s));
+                std::vector<double> ms = timeSettingsSideBySide(trial, timed, log);
+                for (size_t i = 0; i < ms.size(); ++i) {  // at the trial size: put at the frame's by the calibration's split
+                    const double atTrial = predictSetting(cal, settings[i], f, b.penumbra, trialPixels, scale).ms;
+                    const double atFrame = predictSetting(cal, settings[i], f, b.penumbra, in.width * in.height, scale).ms;
+                    if (ms[i] >= 0.0 && atTrial > 0.0) ms[i] *= atFrame / atTrial;
                 }
-                return e;
+                return ms;
             };
             // Measured, a light's error is its part of v's error already (the trial lights the scene
             // with the other lights, unshadowed: v's error there is this light's error weighted by its
@@ -862,7 +874,7 @@ const TechniqueDesc& autoTechnique() {
                     if (k == trial.light) continue;
                     TrialInputs other = trial;
                     other.light = k;
-                    const double e = measureSettingError(other, CalibrationSetting{"hard", {}}, log, false).rmse;
+                    const double e = measureSettingError(other, CalibrationSetting{"hard", {}}, log).rmse;
                     squares += e * e;
                 }
                 b.byFacts = std::sqrt(squares);

@@ -144,18 +144,23 @@ struct AutoBudget {
 struct MeasuredError {
     double rmse = 0.0;          // whole image
     double rmsePenumbra = 0.0;  // over the reference's penumbra (0 < v < 1)
-    double ms = -1.0;           // shadow_ms, timed on trial frames and put at the frame's size (< 0: not timed)
 };
-// `timed`: time it too (two more frames); asked of the settings within the budget only.
-using MeasureSetting = std::function<std::optional<MeasuredError>(size_t setting, bool timed)>;
-// The facts first, then the calibration. With `measure` (the parameter `measure` on, and a GL
+// What a measured choice asks of its trials: one setting's error, and the shadow_ms of the settings
+// within the budget timed side by side (in alternated rounds, put at the frame's size; < 0: not timed),
+// so the load of a shared machine falls on all of them alike and no time is compared with one
+// measured at another moment.
+struct SettingTrials {
+    std::function<std::optional<MeasuredError>(size_t setting)> error;
+    std::function<std::vector<double>(const std::vector<size_t>& settings)> time;
+};
+// The facts first, then the calibration. With `trials` (the parameter `measure` on, and a GL
 // context to render in), every setting within the time budget is measured (its error), in the order
-// of its predicted time, and those within the error budget are timed: the fastest measured within
-// the budget is taken. The calibration's times miss by up to 17x (ssv on random:2013: 113 ms
-// predicted, 7 measured), so a prediction only orders what is then checked and puts a trial's time
-// at the frame's size (techniques/auto/README.md, "Measured, not trusted").
+// of its predicted time, and those within the error budget are timed side by side: the fastest
+// measured within the budget is taken. The calibration's times miss by up to 17x (ssv on
+// random:2013: 113 ms predicted, 7 measured), so a prediction only orders what is then checked and
+// puts a trial's time at the frame's size (techniques/auto/README.md, "Measured, not trusted").
 TechniqueChoice chooseTechnique(const Calibration& calibration, const LightFeatures& features,
                                 const AutoBudget& budget, int pixels, double machineScale,
-                                const MeasureSetting* measure = nullptr);
+                                const SettingTrials* trials = nullptr);
 
 }  // namespace shadowlab

@@ -54,8 +54,12 @@ private:
 struct Trial {
     Image reference;
     std::vector<uint8_t> penumbra;
-    std::map<std::string, MeasuredError> errors;  // by CalibrationSetting::describe(); ms at the trial size
-    std::unique_ptr<Renderer> renderer;           // the settings' (while a choice measures)
+    std::map<std::string, MeasuredError> errors;  // by CalibrationSetting::describe()
+    // shadow_ms at the trial size of settings timed side by side, by the list of their names
+    std::map<std::string, std::vector<double>> timings;
+    std::unique_ptr<Renderer> renderer;  // the settings' (while a choice measures)
+    std::string rendererSetting;         // the setting it is set to
+    int frame = 0;                       // its frames rendered so far (a timed frame's pass times are its own)
     uint64_t lastUse = 0;
 };
 
@@ -111,19 +115,6 @@ Image renderVisibility(Renderer& r, double time) {
     return r.visibility();
 }
 
-// shadow_ms of the setting on `r` (its frame 0 rendered): the fastest of kTimedFrames more frames
-// (the least disturbed by the machine's other work: two frames let a 2 ms setting measure 1.4x
-// another's on a busy machine, spsm over hard on random:2019).
-double timeShadowPasses(Renderer& r, double time) {
-    double best = std::numeric_limits<double>::infinity();
-    for (int frame = 1; frame <= kTimedFrames; ++frame) {
-        r.setTime(time);
-        r.renderFrame(frame, {"visibility"});
-        best = std::min(best, r.stats({}, 0, frame)["shadow_ms"].get<double>());
-    }
-    return best;
-}
-
 }  // namespace
 
 TrialSize trialSize(int width, int height) {
@@ -146,23 +137,12 @@ nlohmann::json TrialLog::toJson() const {
             {"ms", ms}};
 }
 
-MeasuredError measureSettingError(const TrialInputs& in, const CalibrationSetting& setting, TrialLog& log, bool timed) {
-    const TrialSize size = trialSize(in.width, in.height);
-    log.width = size.width;
-    log.height = size.height;
+namespace {
+
+// The view's trial (its reference made when missing); the caller holds `mutex`.
+Trial& viewTrial(const TrialInputs& in, const TrialSize& size, TrialLog& log) {
     const uint64_t key = trialKey(in, size);
-    const std::string name = setting.describe();
-    std::lock_guard<std::mutex> lock(mutex);
     auto it = trials.find(key);
-    if (it != trials.end()) {
-        it->second.lastUse = ++uses;
-        if (auto e = it->second.errors.find(name); e != it->second.errors.end() && (!timed || e->second.ms >= 0.0)) {
-            ++log.reused;
-            return e->second;
-        }
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    SavedGlState saved;
     if (it == trials.end()) {
         if (trials.size() >= kKeptTrials) {  // the least recently used goes
             auto oldest = std::min_element(trials.begin(), trials.end(), [](const auto& a, const auto& b) {
@@ -174,31 +154,93 @@ MeasuredError measureSettingError(const TrialInputs& in, const CalibrationSettin
         auto reference = trialRenderer(in, size, "raytraced", {{"rays", std::to_string(kTrialRays)}});
         t.reference = renderVisibility(*reference, in.time);
         t.penumbra = penumbraMask(t.reference);
-        t.lastUse = ++uses;
         it = trials.emplace(key, std::move(t)).first;
         log.referenceMade = true;
     }
-    Trial& t = it->second;
+    it->second.lastUse = ++uses;
+    return it->second;
+}
+
+// Sets the trial's renderer to `setting`; true when it changed (its next frame allocates).
+bool useSetting(Trial& t, const TrialInputs& in, const TrialSize& size, const CalibrationSetting& setting) {
+    const std::string name = setting.describe();
+    if (t.renderer && t.rendererSetting == name) return false;
     if (!t.renderer) {
         t.renderer = trialRenderer(in, size, setting.technique, setting.sets);
     } else {
         t.renderer->setTechnique(setting.technique);
         for (const auto& [k, v] : setting.sets) t.renderer->setParam(k, v, -1, "calibration setting " + name);
     }
-    const Image v = renderVisibility(*t.renderer, in.time);
+    t.rendererSetting = name;
+    return true;
+}
+
+}  // namespace
+
+MeasuredError measureSettingError(const TrialInputs& in, const CalibrationSetting& setting, TrialLog& log) {
+    const TrialSize size = trialSize(in.width, in.height);
+    log.width = size.width;
+    log.height = size.height;
+    const std::string name = setting.describe();
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = trials.find(trialKey(in, size)); it != trials.end()) {
+        if (auto e = it->second.errors.find(name); e != it->second.errors.end()) {
+            it->second.lastUse = ++uses;
+            ++log.reused;
+            return e->second;
+        }
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    SavedGlState saved;
+    Trial& t = viewTrial(in, size, log);
+    useSetting(t, in, size, setting);
+    t.renderer->setTime(in.time);
+    t.renderer->renderFrame(t.frame++, {"visibility"});
+    const Image v = t.renderer->visibility();
     MeasuredError e;
     e.rmse = computeMetrics(v, t.reference).rmse;
     const Metrics penumbra = computeMetrics(v, t.reference, &t.penumbra);
     e.rmsePenumbra = penumbra.pixels > 0 && std::isfinite(penumbra.rmse) ? penumbra.rmse : 0.0;
-    if (timed) {
-        e.ms = timeShadowPasses(*t.renderer, in.time);
-        ++log.timed;
-    }
-    if (auto known = t.errors.find(name); known == t.errors.end())
-        ++log.measured;
+    ++log.measured;
     t.errors[name] = e;
     log.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return e;
+}
+
+std::vector<double> timeSettingsSideBySide(const TrialInputs& in, const std::vector<CalibrationSetting>& settings,
+                                           TrialLog& log) {
+    const TrialSize size = trialSize(in.width, in.height);
+    log.width = size.width;
+    log.height = size.height;
+    std::string key;
+    for (const CalibrationSetting& s : settings) key += s.describe() + "\n";
+    std::lock_guard<std::mutex> lock(mutex);
+    const auto t0 = std::chrono::steady_clock::now();
+    SavedGlState saved;
+    Trial& t = viewTrial(in, size, log);
+    if (auto known = t.timings.find(key); known != t.timings.end()) {
+        log.reused += int(settings.size());
+        return known->second;
+    }
+    std::vector<double> best(settings.size(), std::numeric_limits<double>::infinity());
+    for (int round = 0; round < kTimedRounds; ++round) {
+        for (size_t j = 0; j < settings.size(); ++j) {
+            // Forward, then backward: no setting always follows the same one.
+            const size_t i = round % 2 == 0 ? j : settings.size() - 1 - j;
+            if (useSetting(t, in, size, settings[i])) {
+                t.renderer->setTime(in.time);
+                t.renderer->renderFrame(t.frame++, {"visibility"});  // untimed: the switch allocates
+            }
+            const int frame = t.frame++;
+            t.renderer->setTime(in.time);
+            t.renderer->renderFrame(frame, {"visibility"});
+            best[i] = std::min(best[i], t.renderer->cost(frame).shadowMs);
+        }
+    }
+    log.timed += int(settings.size());
+    t.timings[key] = best;
+    log.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return best;
 }
 
 void releaseTrialRenderers() {

@@ -18,8 +18,8 @@ constexpr int kTrialPixels = 256 * 256;
 // The reference's rays per pixel: as the bench's and the calibration's (raytraced's default, M =
 // 256 stratified rays; its noise stays under 0.002 RMSE on the scenes in assets/).
 constexpr int kTrialRays = 256;
-// Frames timed per setting within the budget (after the frame that measured its error).
-constexpr int kTimedFrames = 3;
+// Rounds of the side-by-side timing: each renders every setting within the budget once, timed.
+constexpr int kTimedRounds = 3;
 struct TrialSize {
     int width = 1, height = 1;
 };
@@ -49,9 +49,16 @@ struct TrialLog {
 // framebuffers, viewport and program. Results are cached by the scene's content, the lights, the
 // camera, the trial size and the time (the last few frames' keys), so a budget moved or the same
 // view asked again renders nothing.
-// `timed`: also its shadow_ms at the trial size, the fastest of kTimedFrames more frames with every pass run
-// (MeasuredError::ms; the trial's renderer runs without reuse and times on the CPU, as the bench).
-MeasuredError measureSettingError(const TrialInputs& in, const CalibrationSetting& setting, TrialLog& log, bool timed);
+MeasuredError measureSettingError(const TrialInputs& in, const CalibrationSetting& setting, TrialLog& log);
+// shadow_ms of each setting at the trial size, timed side by side: kTimedRounds rounds, each
+// rendering every setting once (forward, then backward; after a switch, one untimed frame first,
+// since it allocates), each setting's fastest round taken. The trial's renderer runs without reuse
+// and times on the CPU, as the bench. Timed one after another, each alone, the settings met
+// different loads of a shared machine (on three-lights at 1024x768, a quiet run times hard at 30 ms
+// and pvm at 47; on a loaded CI run, auto at error_budget 0.3 took what it took at 0.02, whose times
+// it had cached). Cached per view by the list of settings, so a budget moved back times nothing.
+std::vector<double> timeSettingsSideBySide(const TrialInputs& in, const std::vector<CalibrationSetting>& settings,
+                                           TrialLog& log);
 // Frees the trial's renderers (their GL textures and the scene's GPU copy); the measured errors stay
 // cached. The choice calls it when it is done.
 void releaseTrialRenderers();

@@ -147,9 +147,14 @@ TEST(AutoChoice, MeasuredErrorsDecideAndOnlyTheSettingsWithinTheBudgetAreTimed) 
     // What the trials measure, unlike the prediction: hard 0.08, pcss 0.07 (predicted 0.03), ssv 0.01.
     const std::vector<double> truth = {0.08, 0.07, 0.01};
     std::vector<size_t> asked, timed;
-    const MeasureSetting measure = [&](size_t s, bool time) -> std::optional<MeasuredError> {
-        (time ? timed : asked).push_back(s);
-        return MeasuredError{truth[s], 2.0 * truth[s], time ? 1.0 : -1.0};
+    SettingTrials measure;
+    measure.error = [&](size_t s) -> std::optional<MeasuredError> {
+        asked.push_back(s);
+        return MeasuredError{truth[s], 2.0 * truth[s]};
+    };
+    measure.time = [&](const std::vector<size_t>& settings) {
+        timed.insert(timed.end(), settings.begin(), settings.end());
+        return std::vector<double>(settings.size(), 1.0);
     };
     TechniqueChoice c = chooseTechnique(cal, softFeatures(20.0), b, 100 * 100, 1.0, &measure);
     EXPECT_EQ(c.desc->id, "ssv");  // the prediction alone takes pcss (its 0.03 <= 0.05): over the budget
@@ -196,11 +201,18 @@ TEST(AutoChoice, MeasuredTimesPickTheFastestOfTheSettingsWithinTheBudget) {
     AutoBudget b;
     b.error = 0.05;
     const std::vector<double> error = {0.08, 0.03, 0.01}, ms = {2.0, 30.0, 8.0};  // pcss really slow here
-    const MeasureSetting measure = [&](size_t s, bool time) -> std::optional<MeasuredError> {
-        return MeasuredError{error[s], error[s], time ? ms[s] : -1.0};
+    int timings = 0;
+    SettingTrials measure;
+    measure.error = [&](size_t s) -> std::optional<MeasuredError> { return MeasuredError{error[s], error[s]}; };
+    measure.time = [&](const std::vector<size_t>& settings) {  // all within the budget, in one call
+        ++timings;
+        std::vector<double> out;
+        for (size_t s : settings) out.push_back(ms[s]);
+        return out;
     };
     TechniqueChoice c = chooseTechnique(cal, softFeatures(20.0), b, 100 * 100, 1.0, &measure);
     EXPECT_EQ(c.desc->id, "ssv") << c.report.dump(1);
+    EXPECT_EQ(timings, 1);  // side by side: pcss and ssv timed together, never one alone
     EXPECT_NEAR(c.report["measured_ms"].get<double>(), 8.0, 1e-12);
     for (const auto& a : c.report["alternatives"])
         if (a["setting"] == "pcss defaults")
