@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "auto/auto.h"
+#include "auto/trial.h"
 #include "error.h"
 #include "graph/renderer.h"
 #include "image/metrics.h"
@@ -540,7 +541,39 @@ TEST_F(AutoRender, ADragPredictsAndRestMeasuresAndATrialRestoresTheCallersGlStat
     // The same view again: every error comes from the cache, nothing renders.
     r.setCamera(scene.camera);
     EXPECT_EQ(r.lights()[0]->choice["trial"]["settings_measured"], 0);
+    EXPECT_EQ(r.lights()[0]->choice["trial"]["settings_timed"], 0);  // the same list's times, cached
     EXPECT_FALSE(r.lights()[0]->choice["trial"]["reference_made"].get<bool>());
+}
+
+// The settings within a budget are timed side by side (trial.h): one time per setting, in the
+// order asked, each a frame's shadow passes; the same list again renders nothing and gives the same
+// times; another list is timed afresh, together, so no time is compared with one measured at
+// another moment (what failed the lesson what-accuracy-costs on a loaded CI run).
+TEST_F(AutoRender, SettingsAreTimedSideBySideAndTheirTimesCachedPerList) {
+    const Scene scene = loadScene("square-occluder");
+    TrialInputs in;
+    in.scene = &scene;
+    in.lights = scene.lights;
+    in.camera = scene.camera;
+    in.width = in.height = 48;
+    const std::vector<CalibrationSetting> both = {{"hard", {}}, {"pcss", {{"filter_kernel", "9"}}}};
+    TrialLog log;
+    const std::vector<double> ms = timeSettingsSideBySide(in, both, log);
+    ASSERT_EQ(ms.size(), 2u);
+    for (double t : ms) EXPECT_TRUE(std::isfinite(t) && t > 0.0) << t;
+    EXPECT_EQ(log.timed, 2);
+    EXPECT_TRUE(log.referenceMade);  // the view's trial is made when missing
+    TrialLog again;
+    EXPECT_EQ(timeSettingsSideBySide(in, both, again), ms);
+    EXPECT_EQ(again.timed, 0);
+    EXPECT_EQ(again.reused, 2);
+    EXPECT_FALSE(again.referenceMade);
+    TrialLog other;
+    const std::vector<double> alone = timeSettingsSideBySide(in, {both[1]}, other);
+    ASSERT_EQ(alone.size(), 1u);
+    EXPECT_EQ(other.timed, 1);
+    EXPECT_TRUE(std::isfinite(alone[0]) && alone[0] > 0.0);
+    releaseTrialRenderers();
 }
 
 }  // namespace
