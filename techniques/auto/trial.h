@@ -39,7 +39,7 @@ struct TrialLog {
     int width = 0, height = 0;
     int measured = 0;          // settings rendered by this choice (not found in the cache)
     int timed = 0;             // settings timed by this choice
-    int reused = 0;            // settings whose error the cache already held
+    int reused = 0;            // settings whose error, or whose time in the same list, the cache already held
     bool referenceMade = false;  // the reference was rendered by this choice (else cached)
     double ms = 0.0;           // wall time of this choice's renders (reference included)
     nlohmann::json toJson() const;
