@@ -109,10 +109,10 @@ std::unique_ptr<Renderer> trialRenderer(const TrialInputs& in, const TrialSize& 
     return r;
 }
 
-Image renderVisibility(Renderer& r, double time) {
+// Renders frame `frame` of `r` at the trial's time (a frame's index numbers its pass times).
+void renderAt(Renderer& r, double time, int frame) {
     r.setTime(time);
-    r.renderFrame(0, {"visibility"});
-    return r.visibility();
+    r.renderFrame(frame, {"visibility"});
 }
 
 }  // namespace
@@ -152,7 +152,8 @@ Trial& viewTrial(const TrialInputs& in, const TrialSize& size, TrialLog& log) {
         }
         Trial t;
         auto reference = trialRenderer(in, size, "raytraced", {{"rays", std::to_string(kTrialRays)}});
-        t.reference = renderVisibility(*reference, in.time);
+        renderAt(*reference, in.time, 0);
+        t.reference = reference->visibility();
         t.penumbra = penumbraMask(t.reference);
         it = trials.emplace(key, std::move(t)).first;
         log.referenceMade = true;
@@ -194,8 +195,7 @@ MeasuredError measureSettingError(const TrialInputs& in, const CalibrationSettin
     SavedGlState saved;
     Trial& t = viewTrial(in, size, log);
     useSetting(t, in, size, setting);
-    t.renderer->setTime(in.time);
-    t.renderer->renderFrame(t.frame++, {"visibility"});
+    renderAt(*t.renderer, in.time, t.frame++);
     const Image v = t.renderer->visibility();
     MeasuredError e;
     e.rmse = computeMetrics(v, t.reference).rmse;
@@ -227,13 +227,9 @@ std::vector<double> timeSettingsSideBySide(const TrialInputs& in, const std::vec
         for (size_t j = 0; j < settings.size(); ++j) {
             // Forward, then backward: no setting always follows the same one.
             const size_t i = round % 2 == 0 ? j : settings.size() - 1 - j;
-            if (useSetting(t, in, size, settings[i])) {
-                t.renderer->setTime(in.time);
-                t.renderer->renderFrame(t.frame++, {"visibility"});  // untimed: the switch allocates
-            }
+            if (useSetting(t, in, size, settings[i])) renderAt(*t.renderer, in.time, t.frame++);  // untimed: the switch allocates
             const int frame = t.frame++;
-            t.renderer->setTime(in.time);
-            t.renderer->renderFrame(frame, {"visibility"});
+            renderAt(*t.renderer, in.time, frame);
             best[i] = std::min(best[i], t.renderer->cost(frame).shadowMs);
         }
     }
