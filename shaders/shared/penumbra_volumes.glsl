@@ -98,6 +98,32 @@ SHARED_FN vec3 pvmExtrusion(vec3 v0, vec3 v1, vec3 v2, vec3 l, float r, float si
     return dot(x, v1 - l) < 0.0f ? -x : x;
 }
 
+// How far from the light centre, in light radii, the line of a vertex's extrusion vector may pass
+// for the two edges at the vertex to share it (pvmEdgeEndExtrusion).
+const float PVM_MAX_LINE_DISTANCE = 2.0f;
+
+// The extrusion vector of one end of an edge: v1's shared vector (pvmExtrusion), or the edge's own
+// where the shared one's line passes farther than PVM_MAX_LINE_DISTANCE r from the light centre.
+// `ownEdge` names the edge asking: 0 for e0 = v0 -> v1 (v1 is its second end), 1 for e1 = v1 -> v2.
+// The two planes meet in a line that passes at about r / sin(theta / 2) from l, theta the corner's
+// angle seen from the light (r sqrt 2 at a right angle). Where a silhouette edge points almost at
+// the light (the short side of a thin plate seen from above) the corner is a spike, theta almost
+// 0, and the line runs almost parallel to the floor: both edges' volumes sweep a streak across it,
+// where each long edge's cutting plane (through its infinite line, sec. 4.2) darkens the floor
+// far beyond the edge's end (random:7002 in the README). There, each edge ends its volume in its own
+// plane instead, along the ray from its displaced light through v1 (as the dissertation's n0 == n1
+// rule does): its volume stays planar and ends at v1's penumbra cone, and the two volumes leave a
+// gap between them where the shadow-map test decides.
+SHARED_FN vec3 pvmEdgeEndExtrusion(vec3 v0, vec3 v1, vec3 v2, vec3 l, float r, float side, float ownEdge) {
+    vec3 x = pvmExtrusion(v0, v1, v2, l, r, side);
+    float lineDistance = length(cross(l - v1, x));
+    vec3 own = ownEdge < 0.5f ? pvmPlaneNormal(v0, v1, l) : pvmPlaneNormal(v1, v2, l);
+    if (lineDistance <= PVM_MAX_LINE_DISTANCE * r || dot(own, own) == 0.0f) {
+        return x;
+    }
+    return normalize(v1 - pvmDisplacedLight(l, own, r, side));
+}
+
 // The cutting plane through the edge h0 -> h1 (clockwise seen from the light, as the edge maps store
 // it) and the point p (sec. 4.2): (n, d) with n = (h1 - h0) x (p - h0) / |...| and d = -n . h0, so
 // that n . x + d is the signed distance of x. Zero when p lies on the edge's line.

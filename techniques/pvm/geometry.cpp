@@ -125,17 +125,18 @@ PvmGeometry buildPvmGeometry(const Scene& scene, const std::vector<SsvCaster>& c
         }
     }
     // Sec. 4.1.2: the extrusion vectors at both ends of every edge, from the edge and its neighbour
-    // (the same three vertices on both edges sharing a vertex, so their quads meet exactly).
+    // (the same three vertices on both edges sharing a vertex, so their quads meet exactly, but at
+    // spikes: pvmEdgeEndExtrusion).
     for (PvmEdge& e : g.edges) {
         e.degenerate = glm::dot(shared::pvmPlaneNormal(e.a, e.b, l), shared::pvmPlaneNormal(e.a, e.b, l)) == 0.0f;
         g.degenerateEdges += e.degenerate;
         const glm::vec3 before = e.prev >= 0 ? g.edges[size_t(e.prev)].a : e.a;
         const glm::vec3 after = e.next >= 0 ? g.edges[size_t(e.next)].b : e.b;
         g.chainEnds += (e.prev < 0) + (e.next < 0);
-        e.outerA = shared::pvmExtrusion(before, e.a, e.b, l, r, shared::PVM_OUTER);
-        e.innerA = shared::pvmExtrusion(before, e.a, e.b, l, r, shared::PVM_INNER);
-        e.outerB = shared::pvmExtrusion(e.a, e.b, after, l, r, shared::PVM_OUTER);
-        e.innerB = shared::pvmExtrusion(e.a, e.b, after, l, r, shared::PVM_INNER);
+        e.outerA = shared::pvmEdgeEndExtrusion(before, e.a, e.b, l, r, shared::PVM_OUTER, 1.0f);
+        e.innerA = shared::pvmEdgeEndExtrusion(before, e.a, e.b, l, r, shared::PVM_INNER, 1.0f);
+        e.outerB = shared::pvmEdgeEndExtrusion(e.a, e.b, after, l, r, shared::PVM_OUTER, 0.0f);
+        e.innerB = shared::pvmEdgeEndExtrusion(e.a, e.b, after, l, r, shared::PVM_INNER, 0.0f);
     }
     return g;
 }
