@@ -270,14 +270,39 @@ SHARED_FN int spsmTriangleTest(SpsmTriangle t, vec2 x, float zReceiver, float bi
     return z < zReceiver - bias - error ? 2 : 1;
 }
 
-// The depth comparison of the reconstruction step for one neighbour: the neighbour triangle's
-// plane at x (the neighbour texel's centre: the shadow map's comparison with that texel), kept
-// within the depths of its vertices (a triangle that ends before x cannot be nearer than its
-// nearest vertex). Returns true when it is in front of the receiver.
+// 1/z of the stored triangle at its point nearest x: at x where the triangle covers it, else where
+// the nearest of its edges passes closest (1/z is affine in texel coordinates, so linear along an
+// edge). The conservative build stores triangles in texels whose centres they miss; a sliver (a
+// face seen edge-on from the light: a thin plate's side) spans a long range of depths along its
+// length, and its plane extrapolated to a centre beside it, even kept within its vertices' depths,
+// takes the depth of its far end.
+SHARED_FN float spsmInverseDepthNearest(SpsmTriangle t, vec2 x) {
+    if (spsmInside(t, x)) return spsmInverseDepthAt(t, x);
+    float best = SPSM_FAR;
+    float w = t.w.x;
+    for (int i = 0; i < 3; ++i) {
+        vec2 p0 = spsmVertex(t, i);
+        vec2 p1 = spsmVertex(t, (i + 1) % 3);
+        float w0 = i == 0 ? t.w.x : (i == 1 ? t.w.y : t.w.z);
+        float w1 = i == 0 ? t.w.y : (i == 1 ? t.w.z : t.w.x);
+        vec2 e = p1 - p0;
+        float len2 = dot(e, e);
+        float s = len2 > 1e-20f ? clamp(dot(x - p0, e) / len2, 0.0f, 1.0f) : 0.0f;
+        vec2 d = x - (p0 + s * e);
+        float dist2 = dot(d, d);
+        if (dist2 < best) {
+            best = dist2;
+            w = w0 + s * (w1 - w0);
+        }
+    }
+    return w;
+}
+
+// The depth comparison of the reconstruction step for one neighbour: the neighbour triangle's depth
+// nearest x (the neighbour texel's centre: the shadow map's comparison with that texel;
+// spsmInverseDepthNearest). Returns true when it is in front of the receiver.
 SHARED_FN bool spsmOccludesByDepth(SpsmTriangle t, vec2 x, float zReceiver, float bias) {
-    float wLo = min(t.w.x, min(t.w.y, t.w.z));
-    float wHi = max(t.w.x, max(t.w.y, t.w.z));
-    float w = clamp(spsmInverseDepthAt(t, x), wLo, wHi);
+    float w = spsmInverseDepthNearest(t, x);
     float z = w > 0.0f ? 1.0f / w : SPSM_FAR;
     return z < zReceiver - bias - t.wError / max(w * w, 1e-30f);
 }
