@@ -325,7 +325,7 @@ TEST_F(SpsmGpu, SharedMathMatchesCpuOnAGrid) {
     program.set("variant", 1);
     drawFullscreenTriangle();
     std::vector<std::vector<float>> second;
-    for (int i = 0; i < 4; ++i) second.push_back(read(*outs[size_t(i)]));
+    for (int i = 0; i < 5; ++i) second.push_back(read(*outs[size_t(i)]));
     // Same operations; the GPU may fuse multiply-adds and round divisions its own way. 1e-4
     // relative catches any change of formula; the packed words and decisions must agree exactly
     // except where a value sits within rounding of a threshold (allowed in 1% of the cells).
@@ -340,8 +340,8 @@ TEST_F(SpsmGpu, SharedMathMatchesCpuOnAGrid) {
             for (int c = 0; c < 4; ++c) differ = differ || words[i * 4 + size_t(c)] != o.code[c];
             packedDiffer += differ;
             bool bad = false;
-            vec4 cpu[11] = {o.a, o.b, o.c, o.d, o.e, o.f, o.g, o.h, o.i, o.j, o.k};
-            for (int k = 0; k < 11; ++k)
+            vec4 cpu[12] = {o.a, o.b, o.c, o.d, o.e, o.f, o.g, o.h, o.i, o.j, o.k, o.l};
+            for (int k = 0; k < 12; ++k)
                 for (int c = 0; c < 4; ++c) {
                     float gpu = k < 7 ? first[size_t(k)][i * 4 + size_t(c)] : second[size_t(k - 7)][i * 4 + size_t(c)];
                     if (!near(gpu, cpu[k][c])) {

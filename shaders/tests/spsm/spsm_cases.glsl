@@ -18,6 +18,7 @@ struct SpsmCaseOut {
     vec4 i;         // coordinate round trip, bit-field round trip, w at b, extension from a vertex
     vec4 j;         // vertex 1 of the centre neighbour (xy), packed texel empty, all-zero texel empty
     vec4 k;         // the three edge functions at p, inside from them + 2 x (same triangle as its round trip)
+    vec4 l;         // spsmInverseDepthNearest at p, beside the triangle, and of the 3x3's centre triangle at p'
 };
 
 // A triangle in SPSM space around texel (8, 8) of a 64-texel map, from the grid cell (x, y).
@@ -88,6 +89,8 @@ SHARED_FN SpsmCaseOut spsmCase(int x, int y) {
     vec3 edges = spsmEdges(u, p);
     bool insideEdges = spsmInsideEdges(u, spsmEdgeFunction(u.a, u.b, u.c), edges);
     o.k = vec4(edges, (insideEdges ? 1.0f : 0.0f) + (spsmSameTriangle(u, spsmUnpack(spsmPack(u, smSize), smSize)) ? 2.0f : 0.0f));
+    o.l = vec4(spsmInverseDepthNearest(u, p), spsmInverseDepthNearest(u, p + vec2(-3.0f + 0.3f * float(x % 5), 7.0f)),
+               spsmInverseDepthNearest(tris[4], p * 0.1f + vec2(7.6f, 7.6f)), 0.0f);
     return o;
 }
 #endif

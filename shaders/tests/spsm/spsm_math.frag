@@ -10,7 +10,7 @@ layout(location = 5) out vec4 outE;
 layout(location = 6) out vec4 outF;
 layout(location = 7) out vec4 outG;
 
-uniform int variant;  // 0: packed, a..g; 1: h, i, j, k in outA..outD
+uniform int variant;  // 0: packed, a..g; 1: h, i, j, k, l in outA..outE
 
 void main() {
     ivec2 c = ivec2(gl_FragCoord.xy);
@@ -20,7 +20,7 @@ void main() {
     outB = variant == 0 ? o.b : o.i;
     outC = variant == 0 ? o.c : o.j;
     outD = variant == 0 ? o.d : o.k;
-    outE = o.e;
+    outE = variant == 0 ? o.e : o.l;
     outF = o.f;
     outG = o.g;
 }
