@@ -283,8 +283,8 @@ SHARED_FN float spsmInverseDepthNearest(SpsmTriangle t, vec2 x) {
     for (int i = 0; i < 3; ++i) {
         vec2 p0 = spsmVertex(t, i);
         vec2 p1 = spsmVertex(t, (i + 1) % 3);
-        float w0 = i == 0 ? t.w.x : (i == 1 ? t.w.y : t.w.z);
-        float w1 = i == 0 ? t.w.y : (i == 1 ? t.w.z : t.w.x);
+        float w0 = t.w[i];
+        float w1 = t.w[(i + 1) % 3];
         vec2 e = p1 - p0;
         float len2 = dot(e, e);
         float s = len2 > 1e-20f ? clamp(dot(x - p0, e) / len2, 0.0f, 1.0f) : 0.0f;

@@ -113,21 +113,6 @@ TEST(SpsmMath, AnEmptyTexelIsAllZeroAndNoTriangleIsEmpty) {
 }
 
 // ---- ray/triangle: the 2D test at p's projection plus the depth there ------------------------------
-// The reconstruction's depths (random:7100-7102): a sliver (a thin plate's side face seen edge-on
-// from the light) beside a texel centre gives the depth of its nearest point, not its plane's
-// extrapolation; a triangle covering the centre gives its depth there.
-TEST(SpsmMath, NeighbourDepthsAreTheTrianglesNearestPoints) {
-    // A sliver from (0, 0) at z = 5 to (10, 0.1) at z = 3: beside its near end, its depth is about 5.
-    const SpsmTriangle sliver = makeTriangle(vec2(0.0f, 0.0f), vec2(10.0f, 0.1f), vec2(10.0f, 0.12f),
-                                             vec3(1.0f / 5.0f, 1.0f / 3.0f, 1.0f / 3.0f));
-    EXPECT_NEAR(1.0f / spsmInverseDepthNearest(sliver, vec2(-0.5f, 0.5f)), 5.0f, 1e-4f);
-    EXPECT_NEAR(1.0f / spsmInverseDepthNearest(sliver, vec2(5.0f, 1.0f)), 1.0f / (0.5f / 5.0f + 0.5f / 3.0f), 1e-2f);
-    EXPECT_FALSE(spsmOccludesByDepth(sliver, vec2(-0.5f, 0.5f), 5.05f, 0.1f)) << "the near end is beside the receiver";
-    const SpsmTriangle covering = flat(vec2(0.0f), vec2(8.0f, 0.0f), vec2(0.0f, 8.0f), 2.0f);
-    EXPECT_FLOAT_EQ(spsmInverseDepthNearest(covering, vec2(1.0f, 1.0f)), spsmInverseDepthAt(covering, vec2(1.0f, 1.0f)));
-    EXPECT_TRUE(spsmOccludesByDepth(covering, vec2(1.0f, 1.0f), 4.0f, 0.1f));
-}
-
 TEST(SpsmMath, RayTriangleOnEdgesAndVertices) {
     SpsmTriangle t = flat(vec2(1.0f, 1.0f), vec2(5.0f, 1.0f), vec2(1.0f, 4.0f), 4.0f);
     SpsmTriangle cw = t;  // the same triangle, clockwise
@@ -172,6 +157,21 @@ TEST(SpsmMath, RayTriangleOnEdgesAndVertices) {
 }
 
 // ---- the tangent estimate and the reconstruction ---------------------------------------------------
+// The reconstruction's depths (random:7100-7102): a sliver (a thin plate's side face seen edge-on
+// from the light) beside a texel centre gives the depth of its nearest point, not its plane's
+// extrapolation; a triangle covering the centre gives its depth there.
+TEST(SpsmMath, NeighbourDepthsAreTheTrianglesNearestPoints) {
+    // A sliver from (0, 0) at z = 5 to (10, 0.1) at z = 3: beside its near end, its depth is about 5.
+    const SpsmTriangle sliver = makeTriangle(vec2(0.0f, 0.0f), vec2(10.0f, 0.1f), vec2(10.0f, 0.12f),
+                                             vec3(1.0f / 5.0f, 1.0f / 3.0f, 1.0f / 3.0f));
+    EXPECT_NEAR(1.0f / spsmInverseDepthNearest(sliver, vec2(-0.5f, 0.5f)), 5.0f, 1e-4f);
+    EXPECT_NEAR(1.0f / spsmInverseDepthNearest(sliver, vec2(5.0f, 1.0f)), 1.0f / (0.5f / 5.0f + 0.5f / 3.0f), 1e-2f);
+    EXPECT_FALSE(spsmOccludesByDepth(sliver, vec2(-0.5f, 0.5f), 5.05f, 0.1f)) << "the near end is beside the receiver";
+    const SpsmTriangle covering = flat(vec2(0.0f), vec2(8.0f, 0.0f), vec2(0.0f, 8.0f), 2.0f);
+    EXPECT_FLOAT_EQ(spsmInverseDepthNearest(covering, vec2(1.0f, 1.0f)), spsmInverseDepthAt(covering, vec2(1.0f, 1.0f)));
+    EXPECT_TRUE(spsmOccludesByDepth(covering, vec2(1.0f, 1.0f), 4.0f, 0.1f));
+}
+
 // Bits k = (dy + 1) * 3 + dx + 1.
 unsigned maskOf(std::initializer_list<int> ks) {
     unsigned m = 0;
