@@ -451,7 +451,12 @@ void build(ViewContext& ctx, ViewResult& result) {
     const double unoccluded = std::clamp(1.0 - occluded / lightArea, 0.0, 1.0);
     const double front = rec.value("front_fraction", 1.0);
     // pvm: v = 3k^2 - 2k^3 of the disk's visible fraction k (sec. 4.2, after Parker et al.).
-    const double shaped = inVolume ? unoccluded * unoccluded * (3.0 - 2.0 * unoccluded) : unoccluded;
+    const double edgeShaped = inVolume ? unoccluded * unoccluded * (3.0 - 2.0 * unoccluded) : unoccluded;
+    // split_sides (techniques/pvm/README.md, "Sides kept apart"): a value on the other side of 1/2
+    // than the shadow-map test's is held at 1/2; the disk drawn is still the edge's answer.
+    const bool held = inVolume && rec.contains("v_side") && rec["v_side"].is_number() &&
+                      rec["v_side"].get<double>() != rec.value("v_volume", rec["v_side"].get<double>());
+    const double shaped = held ? rec["v_side"].get<double>() : edgeShaped;
     const double visible = shaped * front;
     const double gpu = rec.value("visibility", std::nan(""));
 
@@ -482,7 +487,11 @@ void build(ViewContext& ctx, ViewResult& result) {
                    ", initial " + formatNumber(initial) + "\noverlaps count twice; right: the net count of quads\n";
     if (inVolume)
         caption += "k = 2a/(pi r^2) = " + formatNumber(unoccluded, 5) + " (eq. 4.2), v = 3k^2 - 2k^3 = " +
-                   formatNumber(shaped, 5) + (front < 1.0 ? " x " + formatNumber(front, 4) + " (front)" : "") + " = " +
+                   formatNumber(edgeShaped, 5) +
+                   (held ? std::string(", held at 1/2: the shadow-map test puts the centre ") +
+                               (rec.value("maps", std::string()) == "outer" ? "in view" : "out of view")
+                         : std::string()) +
+                   (front < 1.0 ? " x " + formatNumber(front, 4) + " (front)" : "") + " = " +
                    formatNumber(visible, 6) + " (image: " + formatNumber(gpu, 6) + ")";
     else
         caption += "occluded " + formatNumber(occluded, 5) + " of " + formatNumber(lightArea, 5) + ": visible fraction " +

@@ -425,7 +425,11 @@ void build(ViewContext& ctx, ViewResult& result) {
                                                : "outside every volume";
             std::string numbers;
             if (isPvm)
-                numbers = holdEdge >= 0 ? "k = " + num(rec["disk"], "k") + ", v = " + num(rec, "v_volume")
+                numbers = holdEdge >= 0 ? "k = " + num(rec["disk"], "k") + ", v = " + num(rec, "v_volume") +
+                                              (rec.contains("v_side") && rec["v_side"].is_number() &&
+                                                       rec["v_side"] != rec["v_volume"]
+                                                   ? ", held at " + num(rec, "v_side") + " (split_sides)"
+                                                   : std::string())
                                         : "shadow-map test " + num(rec, "shadow_test");
             else if (rec.value("listed", false))
                 numbers = rec["samples"].is_array()

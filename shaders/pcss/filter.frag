@@ -1,7 +1,7 @@
 // PCSS step 2, percentage-closer filtering with the kernel of step 1 (Fernando 2005; buades2015
 // sec. 2): the weighted fraction of depth tests that pass over a kernel as wide as the penumbra of
 // eq. 1. Regular pattern: every texel of the kernel, box weights with fractional edge taps
-// (kernelWeight, so the kernel widens continuously); Poisson: POISSON_COUNT taps in a disk.
+// (kernelWeight, so the kernel widens and moves continuously); Poisson: POISSON_COUNT taps in a disk.
 #include "../common/gbuffer_access.glsl"
 #include "../common/light_front.glsl"
 #include "pcss_common.glsl"
@@ -24,13 +24,21 @@ void main() {
         visibility = lit / float(POISSON_COUNT) * lightFrontFraction(worldPosition(pixel), worldNormal(pixel));
         return;
     }
-    int r = kernelRadius(kernel);
+    // The box is centred on the receiver's own position in the map, not on its texel's centre: tap
+    // (dx, dy) reads the texel whose centre lies (dx, dy) - f from the receiver (f: its offset from
+    // its texel's centre) and weighs it by the share of that texel's cell inside the box. Centred
+    // on the texel, every pixel within one texel read the same taps with the same weights: where a
+    // tilted light spreads a 512^2 map's texels over many pixels of the floor, the penumbra and the
+    // lit floor around it showed a grid of texel-sized squares. One more tap on each side covers the
+    // shifted box.
+    vec2 f = fract(receiver.coord.xy * shadowMapSize) - 0.5;
+    int r = kernelRadius(kernel) + 1;
     float lit = 0.0, weights = 0.0;
     for (int dy = -r; dy <= r; ++dy) {
-        float wy = kernelWeight(float(dy), kernel, FILTER_MEAN, 1.0);
+        float wy = kernelWeight(float(dy) - f.y, kernel, FILTER_MEAN, 1.0);
         for (int dx = -r; dx <= r; ++dx) {
-            float w = wy * kernelWeight(float(dx), kernel, FILTER_MEAN, 1.0);
-            lit += w * shadowTestTap(receiver, plane, vec2(dx, dy));
+            float w = wy * kernelWeight(float(dx) - f.x, kernel, FILTER_MEAN, 1.0);
+            if (w > 0.0) lit += w * shadowTestTap(receiver, plane, vec2(dx, dy));
             weights += w;
         }
     }

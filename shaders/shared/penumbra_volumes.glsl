@@ -169,6 +169,19 @@ SHARED_FN float pvmVisibility(vec3 p, vec3 h0, vec3 h1, vec3 l, float r) {
     return pvmFalloff(pvmDiskFraction(s, r));
 }
 
+// The two sides kept apart (README.md, "Sides kept apart"): a receiver the light centre reaches (the
+// shadow-map test lit, centreVisible 1) lies in an outer penumbra, where at least half of the light
+// is visible; one the centre does not reach (0) lies in an inner penumbra, where at most half is.
+// Sec. 4.2's cutting plane through one edge's infinite line can put the centre on the other side
+// when the edge is not the one that bounds the receiver's shadow (a notch of a scanned mesh's
+// jagged silhouette, whose outer volume reaches over the umbra of the rest of the mesh; another
+// occluder's edge, Fig. 4.7): the value is then kept at 1/2, on its side, so that the error is
+// never more than a hard shadow's and v stays continuous across the hard shadow's boundary, where
+// both sides give 1/2.
+SHARED_FN float pvmSideVisibility(float v, float centreVisible) {
+    return centreVisible > 0.5f ? max(v, 0.5f) : min(v, 0.5f);
+}
+
 // The radius of the disk the volumes and the cutting plane use for a light (shape as LightShape: 1
 // square, 2 disk, 3 sphere; size: a square's width w, a disk's or sphere's radius): the disk and
 // sphere their radius, as the dissertation's spherical lights; a square its equal-area disk,

@@ -68,25 +68,35 @@ private:
 class VolumeMapPass : public Pass {
 public:
     void execute(PassContext& ctx) override {
-        Texture& depth = ctx.texture("pvdm");
-        Texture& edge0 = ctx.texture("pvem0");
-        Texture& edge1 = ctx.texture("pvem1");
-        Texture& zbuffer = ctx.texture("pvm_zbuffer");
-        const Framebuffer& fbo = fbo_.get({&depth, &edge0, &edge1}, &zbuffer);
-        // Per vertex: the position, then the edge's end points with its index and the side.
+        // split_sides: the outer volumes into pvdm, pvem0, pvem1 and the inner ones into their own
+        // maps (README.md, "Sides kept apart"); else every volume into the first three (sec. 4.1.3).
+        const bool split = ctx.param("split_sides") != 0.0;
         const MeshData& volumes = ctx.mesh("penumbra_volumes");
         const MeshData& lines = ctx.mesh("silhouettes");
         const std::vector<float>& edgeOf = volumes.primitiveAttributes[0].second;
         const std::vector<float>& side = volumes.primitiveAttributes[1].second;
-        std::vector<glm::vec4>& vertices = draw_.begin(volumes.indices.size());
+        std::vector<glm::vec4>& outer = draw_.begin(volumes.indices.size());
+        std::vector<glm::vec4>& inner = innerDraw_.begin(split ? volumes.indices.size() : 0);
+        // Per vertex: the position, then the edge's end points with its index and the side.
         for (size_t i = 0; i < volumes.indices.size(); ++i) {
             const size_t tri = i / 3;
             const size_t edge = size_t(edgeOf[tri]);
             const glm::vec3 h0 = lines.positions[lines.indices[2 * edge]], h1 = lines.positions[lines.indices[2 * edge + 1]];
-            vertices.push_back(glm::vec4(volumes.positions[volumes.indices[i]], 1.0f));
-            vertices.push_back(glm::vec4(h0, edgeOf[tri]));
-            vertices.push_back(glm::vec4(h1, side[tri]));
+            std::vector<glm::vec4>& to = split && side[tri] != 0.0f ? inner : outer;
+            to.push_back(glm::vec4(volumes.positions[volumes.indices[i]], 1.0f));
+            to.push_back(glm::vec4(h0, edgeOf[tri]));
+            to.push_back(glm::vec4(h1, side[tri]));
         }
+        Texture& zbuffer = ctx.texture("pvm_zbuffer");
+        render(ctx, draw_, outerFbo_, {"pvdm", "pvem0", "pvem1"}, zbuffer);
+        if (split) render(ctx, innerDraw_, innerFbo_, {"pvdm_inner", "pvem0_inner", "pvem1_inner"}, zbuffer);
+    }
+
+private:
+    static void render(PassContext& ctx, VolumeDraw& draw, FramebufferCache& cache,
+                       const std::array<const char*, 3>& targets, Texture& zbuffer) {
+        Texture& depth = ctx.texture(targets[0]);
+        const Framebuffer& fbo = cache.get({&depth, &ctx.texture(targets[1]), &ctx.texture(targets[2])}, &zbuffer);
         const int size = depth.width();
         fbo.bind(size, size);
         const float none = FLT_MAX, zero[4] = {0, 0, 0, 0}, depthClear = 0.0f;
@@ -94,13 +104,12 @@ public:
         glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 1, zero);
         glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 2, zero);
         glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &depthClear);
-        draw_.draw(ctx, "pvm/volume.frag");
+        draw.draw(ctx, "pvm/volume.frag");
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
-private:
-    FramebufferCache fbo_;
-    VolumeDraw draw_;
+    FramebufferCache outerFbo_, innerFbo_;
+    VolumeDraw draw_, innerDraw_;
 };
 
 // ---- 4. visibility (Listing 4.2) ------------------------------------------------------------------
@@ -131,6 +140,16 @@ public:
         program.set("edgeMap0", 5);
         glBindTextureUnit(6, ctx.texture("pvem1").id());
         program.set("edgeMap1", 6);
+        // Without split_sides the inner maps do not exist and the shader does not read them; the
+        // outer ones stand in for the samplers.
+        const bool split = ctx.param("split_sides") != 0.0;
+        glBindTextureUnit(7, ctx.texture(split ? "pvdm_inner" : "pvdm").id());
+        program.set("innerDepthMap", 7);
+        glBindTextureUnit(8, ctx.texture(split ? "pvem0_inner" : "pvem0").id());
+        program.set("innerEdgeMap0", 8);
+        glBindTextureUnit(9, ctx.texture(split ? "pvem1_inner" : "pvem1").id());
+        program.set("innerEdgeMap1", 9);
+        program.set("splitSides", split ? 1 : 0);
         fbo.bind(ctx.width(), ctx.height());
         drawFullscreenTriangle();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -187,6 +206,8 @@ InternalDesc pvmPixelRecord() {
                 {"receiver_depth", "its light-view depth z (world units)"},
                 {"map_texel", "the PVDM / PVEM / shadow-map texel it projects to (x, y from the bottom); null outside "
                               "the light's frustum"},
+                {"maps", "which volume maps the receiver read: \"both sides\" (split_sides 0, the dissertation's one "
+                         "map), \"outer\" (the shadow-map test lit) or \"inner\" (shadowed)"},
                 {"volume_depth", "the PVDM's depth there (null: no volume)"},
                 {"in_volume", "volume_depth < receiver_depth (Listing 4.2, line 15)"},
                 {"volume", "when in a volume: the silhouette edge (index into the silhouettes internal, its end "
@@ -197,12 +218,14 @@ InternalDesc pvmPixelRecord() {
                          "normal n (the disk's axis in the plane of the figure), segment_area a = eq. 4.1 at -s (the "
                          "part on the visible side), k = 2a / (pi r^2) (eq. 4.2)"},
                 {"v_volume", "3k^2 - 2k^3"},
+                {"v_side", "split_sides: v_volume kept on the side of 1/2 the shadow-map test gives (pvmSideVisibility)"},
                 {"shadow_test", "outside a volume: the shadow-map test (1 lit, 0 umbra)"},
                 {"front_fraction", "the fraction of the light in front of the receiver's tangent plane"},
-                {"visibility_from_record", "what the fields give: (v_volume or shadow_test) x front_fraction"},
+                {"visibility_from_record", "what the fields give: (v_side, v_volume or shadow_test) x front_fraction"},
                 {"visibility", "this light's visibility at the pixel, read from the visibility pass"}};
-    r.reads = {"gbuffer", "light", "pvdm", "pvem0", "pvem1", "silhouettes", "shadow_map", "shadow_map_second_depth",
-               "param:second_depth", "param:bias_const", "param:bias_slope", "visibility"};
+    r.reads = {"gbuffer", "light", "pvdm", "pvem0", "pvem1", "pvdm_inner", "pvem0_inner", "pvem1_inner", "silhouettes",
+               "shadow_map", "shadow_map_second_depth", "param:second_depth", "param:bias_const", "param:bias_slope",
+               "param:split_sides", "visibility"};
     r.record = [](PassContext& ctx, glm::ivec2 pixel) {
         nlohmann::json j;
         const std::optional<RecordReceiver> receiver = beginReceiverRecord(ctx, pixel, j);
@@ -216,11 +239,24 @@ InternalDesc pvmPixelRecord() {
         j["map_texel"] = nullptr;
         j["in_volume"] = false;
         // Every field of the schema is present; those of the branch not taken are null.
-        for (const char* f : {"volume_depth", "volume", "cutting_plane", "light_distance", "disk", "v_volume",
-                              "shadow_test"})
+        for (const char* f : {"maps", "volume_depth", "volume", "cutting_plane", "light_distance", "disk", "v_volume",
+                              "v_side", "shadow_test"})
             j[f] = nullptr;
         if (front > 0.0f && coord.w != 0.0f) {
-            const Texture& pvdm = ctx.texture("pvdm");
+            // The shadow-map test first: it decides outside the volumes and, with split_sides, which
+            // side's maps the receiver reads.
+            const Texture& map = ctx.texture(shadowTestMap(ctx));
+            const float texelWorld = shared::shadowTexelWorldSize(coord.z, view.tanHalfFov, float(map.width()));
+            const float cosTheta = std::abs(glm::dot(n, glm::normalize(light.position - p)));
+            const float bias = shared::shadowDepthBias(texelWorld, float(ctx.param("bias_const")),
+                                                       float(ctx.param("bias_slope")), cosTheta);
+            const glm::ivec2 ts = glm::clamp(glm::ivec2(glm::floor(glm::vec2(coord) * float(map.width()))),
+                                             glm::ivec2(0), glm::ivec2(map.width() - 1));
+            const float centre = shared::shadowDepthTest(coord.z, texelOf(map, ts).x, bias);
+            const bool split = ctx.param("split_sides") != 0.0;
+            const bool inner = split && centre < 0.5f;
+            j["maps"] = !split ? "both sides" : inner ? "inner" : "outer";
+            const Texture& pvdm = ctx.texture(inner ? "pvdm_inner" : "pvdm");
             const int size = pvdm.width();
             const glm::ivec2 t = glm::clamp(glm::ivec2(glm::floor(glm::vec2(coord) * float(size))), glm::ivec2(0),
                                             glm::ivec2(size - 1));
@@ -228,7 +264,8 @@ InternalDesc pvmPixelRecord() {
             const float vd = texelOf(pvdm, t).x;
             j["volume_depth"] = vd > 1e30f ? nlohmann::json(nullptr) : nlohmann::json(vd);
             if (vd < coord.z) {
-                const glm::vec4 e0 = texelOf(ctx.texture("pvem0"), t), e1 = texelOf(ctx.texture("pvem1"), t);
+                const glm::vec4 e0 = texelOf(ctx.texture(inner ? "pvem0_inner" : "pvem0"), t),
+                                e1 = texelOf(ctx.texture(inner ? "pvem1_inner" : "pvem1"), t);
                 const glm::vec3 h0(e0), h1(e1);
                 const float r = lightRadiusOf(light);
                 const glm::vec4 plane = shared::pvmCuttingPlane(h0, h1, p);
@@ -251,15 +288,10 @@ InternalDesc pvmPixelRecord() {
                              {"k", k}};
                 v = shared::pvmVisibility(p, h0, h1, light.position, r);
                 j["v_volume"] = v;
+                if (split) v = shared::pvmSideVisibility(v, centre);
+                j["v_side"] = split ? nlohmann::json(v) : nlohmann::json(nullptr);
             } else {
-                const Texture& map = ctx.texture(shadowTestMap(ctx));
-                const float texelWorld = shared::shadowTexelWorldSize(coord.z, view.tanHalfFov, float(map.width()));
-                const float cosTheta = std::abs(glm::dot(n, glm::normalize(light.position - p)));
-                const float bias = shared::shadowDepthBias(texelWorld, float(ctx.param("bias_const")),
-                                                           float(ctx.param("bias_slope")), cosTheta);
-                const glm::ivec2 ts = glm::clamp(glm::ivec2(glm::floor(glm::vec2(coord) * float(map.width()))),
-                                                 glm::ivec2(0), glm::ivec2(map.width() - 1));
-                v = shared::shadowDepthTest(coord.z, texelOf(map, ts).x, bias);
+                v = centre;
                 j["shadow_test"] = v;
             }
         }
@@ -283,6 +315,11 @@ const TechniqueDesc& pvmTechnique() {
                     "light's disk beyond the cutting plane through its edge, any other the shadow-map test";
         d.soft = true;
         d.params = shadowMapParams();
+        ParamDesc split{"split_sides", "", ParamDesc::Type::Bool, "", 1, 0, 1, 1,
+                        "outer and inner volumes in maps of their own, read where the shadow-map test says lit and "
+                        "shadowed, each value kept on its side of 1/2 (README.md, \"Sides kept apart\"); 0: the "
+                        "dissertation's one map, nearest volume of either side (Fig. 4.7's overwrite)"};
+        d.params.push_back(split);
 
         PassDesc volumes;
         volumes.name = "volumes";
@@ -301,7 +338,7 @@ const TechniqueDesc& pvmTechnique() {
         map.name = "volume_map";
         map.doc = "the volume quads rendered from the light into the PVDM (nearest volume depth) and the two PVEM "
                   "(the edge's end points) in one pass with three render targets (sec. 4.1.3)";
-        map.reads = {"light", "penumbra_volumes", "silhouettes", "param:sm_size"};
+        map.reads = {"light", "penumbra_volumes", "silhouettes", "param:sm_size", "param:split_sides"};
         map.creates = {
             ResourceDesc::texture("pvdm", Format::R32F, SizeRule::shadowMap(),
                                   "penumbra volume depth map: light-view z of the nearest volume (FLT_MAX: none)"),
@@ -310,7 +347,14 @@ const TechniqueDesc& pvmTechnique() {
             ResourceDesc::texture("pvem1", Format::RGBA32F, SizeRule::shadowMap(),
                                   "penumbra volume edge map: h1 (world) of that volume's edge, w = side + 1"),
             ResourceDesc::texture("pvm_zbuffer", Format::DEPTH32F, SizeRule::shadowMap(),
-                                  "reversed-depth z-buffer of the volume render (scratch)")};
+                                  "reversed-depth z-buffer of the volume render (scratch)"),
+            ResourceDesc::texture("pvdm_inner", Format::R32F, SizeRule::shadowMap(),
+                                  "split_sides: the inner volumes' PVDM (pvdm then holds the outer volumes only)"),
+            ResourceDesc::texture("pvem0_inner", Format::RGBA32F, SizeRule::shadowMap(),
+                                  "split_sides: the inner volumes' PVEM h0, w = edge index + 1"),
+            ResourceDesc::texture("pvem1_inner", Format::RGBA32F, SizeRule::shadowMap(),
+                                  "split_sides: the inner volumes' PVEM h1, w = side + 1")};
+        for (size_t i = map.creates.size() - 3; i < map.creates.size(); ++i) map.creates[i].appliesWhen = "split_sides == true";
         map.state = PipelineState::depthGreaterReversed();
         map.soft = true;
         map.create = [] { return std::make_unique<VolumeMapPass>(); };
@@ -319,7 +363,8 @@ const TechniqueDesc& pvmTechnique() {
         visibility.name = "visibility";
         visibility.doc = "Listing 4.2: inside a volume, the disk fraction beyond the cutting plane through its edge "
                          "(eq. 4.1-4.2) and 3k^2 - 2k^3; elsewhere the shadow-map test; times the light's front fraction";
-        visibility.reads = {"gbuffer", "light", "pvdm", "pvem0", "pvem1", "param:bias_const", "param:bias_slope"};
+        visibility.reads = {"gbuffer", "light", "pvdm", "pvem0", "pvem1", "pvdm_inner", "pvem0_inner", "pvem1_inner",
+                            "param:bias_const", "param:bias_slope", "param:split_sides"};
         for (const std::string& r : shadowTestReads()) visibility.reads.push_back(r);
         visibility.creates = {visibilityResource()};
         visibility.soft = true;
@@ -339,7 +384,11 @@ const TechniqueDesc& pvmTechnique() {
         InternalDesc pvem1{"pvem1", InternalDesc::Kind::Image, "pvem1", {"x", "y", "z", "side_plus_1"},
                            "penumbra volume edge map 1: the edge's second end point h1 (world), side + 1 (1 outer, 2 "
                            "inner; 0: none)"};
-        d.internals.insert(d.internals.end(), {silhouettes, volumeMesh, pvdm, pvem0, pvem1, pvmPixelRecord()});
+        InternalDesc pvdmInner{"pvdm_inner", InternalDesc::Kind::Image, "pvdm_inner", {"depth"},
+                               "split_sides: the inner volumes' depth map (pvdm then holds the outer ones)"};
+        pvdmInner.convert = farMarkerToInfinity;
+        pvdmInner.appliesWhen = "split_sides == true";
+        d.internals.insert(d.internals.end(), {silhouettes, volumeMesh, pvdm, pvem0, pvem1, pvdmInner, pvmPixelRecord()});
         return d;
     }();
     return desc;

@@ -223,14 +223,32 @@ SsvGeometry buildSsvGeometry(const Scene& scene, const std::vector<SsvCaster>& c
         if (topo.edges.empty()) continue;
         const glm::mat4 worldFromObject = object.worldFromObjectAt(t);
         const glm::vec3 lightInObject = glm::vec3(glm::inverse(worldFromObject) * glm::vec4(c, 1.0f));
-        const bool closed = topo.isClosed() && topo.consistentlyOriented;
+        // Non-manifold edges are handled exactly (below), but what is solid is judged per patch
+        // between them: said once, as every rule a mesh's shape changes.
+        // What the topology repaired or closed, said once per object (the pass keeps what it said).
+        if (!topo.reorientedTriangles.empty())
+            g.warnings.push_back("object '" + object.name + "': " + std::to_string(topo.reorientedTriangles.size()) +
+                                 " triangles wound against their neighbours were turned round for its silhouettes "
+                                 "and caps");
+        if (!topo.duplicateTriangles.empty())
+            g.warnings.push_back("object '" + object.name + "': " + std::to_string(topo.duplicateTriangles.size()) +
+                                 " duplicate triangles (the corners of an earlier one) were left out");
+        if (!topo.fillCentres.empty())
+            g.warnings.push_back("object '" + object.name + "': " + std::to_string(topo.fillCentres.size()) +
+                                 " openings of a solid were closed by fans for its shadow volume; its inside, where "
+                                 "it shows through them, is lit");
         if (topo.nonManifoldEdges() > 0)
             g.warnings.push_back("object '" + object.name + "' is not a manifold (" +
                                  std::to_string(topo.nonManifoldEdges()) +
-                                 " edges with more than two faces): ssv treats it as an open surface, every "
-                                 "triangle a cap and every non-manifold edge a silhouette, which may over-darken");
-        std::vector<glm::vec3> world(topo.vertices.size());
-        for (size_t v = 0; v < world.size(); ++v) world[v] = glm::vec3(worldFromObject * glm::vec4(topo.vertices[v], 1.0f));
+                                 " edges with more than two faces): each such edge is a silhouette edge of the "
+                                 "weight its caps leave; a component that is not a solid is capped from both sides");
+        // World positions: the welded vertices, then the centres of the fans that close a solid's
+        // openings (MeshTopology::holeFills).
+        const size_t meshVertices = topo.vertices.size();
+        std::vector<glm::vec3> world(meshVertices + topo.fillCentres.size());
+        for (size_t v = 0; v < meshVertices; ++v) world[v] = glm::vec3(worldFromObject * glm::vec4(topo.vertices[v], 1.0f));
+        for (size_t c = 0; c < topo.fillCentres.size(); ++c)
+            world[meshVertices + c] = glm::vec3(worldFromObject * glm::vec4(topo.fillCentres[c], 1.0f));
         // Volume vertices, made on first use: the finite one moved away from the light by capOffset,
         // and the one at infinity in the same direction from the light centre.
         std::vector<int> finite(world.size(), -1), infinite(world.size(), -1);
@@ -249,47 +267,94 @@ SsvGeometry buildSsvGeometry(const Scene& scene, const std::vector<SsvCaster>& c
             }
             return uint32_t(infinite[v]);
         };
-        // Caps: each triangle wound to face the light is a near cap, the same reversed at infinity
-        // the far cap. A closed mesh caps with its triangles facing away from the light (its dark
-        // side), so its lit surface is outside its own volume; an open one with all its triangles
-        // (each occludes from both sides).
-        for (size_t tri = 0; tri < topo.triangles.size(); ++tri) {
-            if (topo.edgesOfTriangle[tri].x == MeshTopology::Edge::kNone) continue;  // degenerate
-            const bool faces = facesPoint(topo, uint32_t(tri), lightInObject);
-            if (closed && faces) continue;
-            glm::uvec3 v = topo.triangles[tri];
-            if (!faces) std::swap(v.y, v.z);  // now wound to face the light
+        auto addCap = [&](glm::uvec3 v) {  // wound to face the light
             g.volume.triangles.push_back({finiteVertex(v.x), finiteVertex(v.y), finiteVertex(v.z)});
             g.volume.kind.push_back(0);
             g.volume.edge.push_back(-1);
             g.volume.triangles.push_back({infiniteVertex(v.x), infiniteVertex(v.z), infiniteVertex(v.y)});
             g.volume.kind.push_back(1);
             g.volume.edge.push_back(-1);
+        };
+        // Caps: the triangles that occlude, each wound to face the light, as a near cap and the
+        // same reversed at infinity as the far cap. A solid (MeshTopology::Component::solid: closed,
+        // or with openings spanning at most a quarter of its area) caps with its triangles facing
+        // away from the light (its dark side), so its lit surface is far outside its own volume,
+        // and with the fans that close its openings (MeshTopology::holeFills) facing the same way,
+        // so no light passes an opening that the lit side stops. A sheet caps with all its
+        // triangles (each occludes from both sides).
+        // Sides: the boundary of the caps as a chain (README.md, "Open and imperfect meshes"): each
+        // cap adds +1 to the edges it runs v0 -> v1 and -1 to those it runs v1 -> v0, wound as it
+        // faces the light; an edge whose sum m is not 0 is a silhouette edge of weight |m|, running
+        // the way the caps run it. The volume is then closed whatever the mesh: on a closed mesh the
+        // edges between a lit and a dark face (weight 1); on a sheet its interior silhouettes
+        // (weight 2) and its boundary (1); an edge of three or more faces gets what its caps leave.
+        std::vector<int> chain(topo.edges.size(), 0);
+        for (size_t tri = 0; tri < topo.triangles.size(); ++tri) {
+            if (topo.edgesOfTriangle[tri].x == MeshTopology::Edge::kNone) continue;  // degenerate, duplicate
+            const bool faces = facesPoint(topo, uint32_t(tri), lightInObject);
+            const MeshTopology::Component& component = topo.components[topo.componentOfTriangle[tri]];
+            if (component.solid() && faces) continue;
+            glm::uvec3 v = topo.triangles[tri];
+            if (!faces) std::swap(v.y, v.z);  // now wound to face the light
+            addCap(v);
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t e = topo.edgesOfTriangle[tri][k];
+                // Edge k runs triangles[tri][k] -> [k + 1]; reversed when the cap was flipped.
+                const uint32_t from = faces ? topo.triangles[tri][k] : topo.triangles[tri][(k + 1) % 3];
+                chain[e] += from == topo.edges[e].v0 ? 1 : -1;
+            }
         }
-        // Sides: one quad per silhouette edge (two on an open mesh's interior silhouettes, which
-        // bound a lit face's cap and a dark face's flipped cap running the same way).
-        for (uint32_t e : silhouetteEdges(topo, lightInObject)) {
-            const MeshTopology::Edge& edge = topo.edges[e];
-            const glm::uvec2 ft = orientSilhouetteEdge(topo, e, lightInObject);
+        // The fans: triangle (b, a, centre) per boundary edge a -> b of a solid; its spokes are edges
+        // of the fan alone, counted per vertex (+1 for a run vertex -> centre).
+        std::vector<int> spoke(topo.holeFills.empty() ? 0 : meshVertices, 0);
+        std::vector<uint32_t> centreOf(spoke.size(), 0);
+        for (const MeshTopology::HoleFill& f : topo.holeFills) {
+            const glm::dvec3 a(topo.vertices[f.a]), b(topo.vertices[f.b]), m(topo.fillCentres[f.centre]);
+            const bool faces = glm::dot(glm::cross(a - b, m - b), glm::dvec3(lightInObject) - b) > 0.0;
+            centreOf[f.a] = centreOf[f.b] = f.centre;
+            const MeshTopology::Component& component = topo.components[topo.componentOfTriangle[size_t(topo.edges[f.edge].face0)]];
+            if (faces || !component.solid()) continue;
+            const uint32_t centre = uint32_t(meshVertices + f.centre);
+            // Facing the light, (b, a, centre) runs b -> a, a -> centre and centre -> b; flipped,
+            // (b, centre, a) runs each the other way.
+            const int sign = faces ? 1 : -1;
+            addCap(faces ? glm::uvec3(f.b, f.a, centre) : glm::uvec3(f.b, centre, f.a));
+            chain[f.edge] += sign * (f.b == topo.edges[f.edge].v0 ? 1 : -1);
+            spoke[f.a] += sign;
+            spoke[f.b] -= sign;
+        }
+        auto addSilhouette = [&](uint32_t from, uint32_t to, int weight, uint32_t topologyEdge, bool boundary) {
             SsvEdge s;
-            s.a = world[ft.x];
-            s.b = world[ft.y];
+            s.a = world[from];
+            s.b = world[to];
             s.object = caster.object;
-            s.topologyEdge = e;
-            s.boundary = edge.boundary();
-            s.weight = (!closed && edge.hasAdjacency()) ? 2.0f : 1.0f;
+            s.topologyEdge = topologyEdge;
+            s.boundary = boundary;
+            s.weight = float(weight);
             const int index = int(g.edges.size());
             g.edges.push_back(s);
-            for (int k = 0; k < int(s.weight); ++k) {
-                const uint32_t from = finiteVertex(ft.x), to = finiteVertex(ft.y);
-                const uint32_t fromInf = infiniteVertex(ft.x), toInf = infiniteVertex(ft.y);
-                g.volume.triangles.push_back({to, from, fromInf});
-                g.volume.triangles.push_back({to, fromInf, toInf});
+            for (int k = 0; k < weight; ++k) {
+                const uint32_t f0 = finiteVertex(from), t0 = finiteVertex(to);
+                const uint32_t fInf = infiniteVertex(from), tInf = infiniteVertex(to);
+                g.volume.triangles.push_back({t0, f0, fInf});
+                g.volume.triangles.push_back({t0, fInf, tInf});
                 for (int q = 0; q < 2; ++q) {
                     g.volume.kind.push_back(2);
                     g.volume.edge.push_back(index);
                 }
             }
+        };
+        for (uint32_t e = 0; e < topo.edges.size(); ++e) {
+            if (chain[e] == 0) continue;
+            const MeshTopology::Edge& edge = topo.edges[e];
+            if (chain[e] > 0) addSilhouette(edge.v0, edge.v1, chain[e], e, edge.boundary());
+            else addSilhouette(edge.v1, edge.v0, -chain[e], e, edge.boundary());
+        }
+        for (uint32_t v = 0; v < spoke.size(); ++v) {
+            if (spoke[v] == 0) continue;
+            const uint32_t centre = uint32_t(meshVertices + centreOf[v]);
+            if (spoke[v] > 0) addSilhouette(v, centre, spoke[v], MeshTopology::Edge::kNone, false);
+            else addSilhouette(centre, v, -spoke[v], MeshTopology::Edge::kNone, false);
         }
     }
     g.wedges.reserve(g.edges.size());

@@ -625,6 +625,40 @@ InternalDesc ssvPixelRecord() {
 
 }  // namespace
 
+namespace {
+
+// `--stats`: per caster, what buildTopology found and repaired and how the shadow volume treats it
+// (README.md, "Open and imperfect meshes").
+CounterDesc ssvTopologyCounter() {
+    CounterDesc c;
+    c.name = "topology";
+    c.doc = "per caster: triangles, duplicates left out, triangles turned round, boundary and non-manifold edges, "
+            "components (solids capped on their dark side, sheets capped on both), openings closed by fans";
+    c.reads = {"silhouettes"};
+    c.count = [](PassContext& ctx) {
+        nlohmann::json objects = nlohmann::json::array();
+        for (const SsvCaster& caster : buildSsvCasters(ctx.scene())) {
+            const MeshTopology& t = caster.topology;
+            size_t solids = 0;
+            for (const MeshTopology::Component& comp : t.components) solids += comp.solid();
+            objects.push_back({{"object", ctx.scene().objects[size_t(caster.object)].name},
+                               {"triangles", t.triangles.size()},
+                               {"degenerate_left_out", t.degenerateTriangles.size() - t.duplicateTriangles.size()},
+                               {"duplicates_left_out", t.duplicateTriangles.size()},
+                               {"turned_round", t.reorientedTriangles.size()},
+                               {"boundary_edges", t.boundaryEdges()},
+                               {"non_manifold_edges", t.nonManifoldEdges()},
+                               {"solid_components", solids},
+                               {"sheet_components", t.components.size() - solids},
+                               {"openings_closed", t.fillCentres.size()}});
+        }
+        return nlohmann::json{{"objects", objects}};
+    };
+    return c;
+}
+
+}  // namespace
+
 const TechniqueDesc& ssvTechnique() {
     static const TechniqueDesc desc = [] {
         TechniqueDesc d;
@@ -750,6 +784,7 @@ const TechniqueDesc& ssvTechnique() {
                                    "split == 2"};
         d.internals.insert(d.internals.end(), {coverage, coverageQuarters, count, countQuarters});
         d.internals.push_back(ssvPixelRecord());
+        d.counters = {ssvTopologyCounter()};
         return d;
     }();
     return desc;

@@ -74,15 +74,16 @@ struct SsvWedge {
 SsvWedge buildWedge(const SsvLight& light, const glm::vec3& e0, const glm::vec3& e1, float farDistance,
                     const Bounds* receivers = nullptr);
 
-// A silhouette edge in world space, oriented so that the face facing the light centre lies on its
-// left seen from the light (orientSilhouetteEdge), with its weight: 1 on a closed mesh; on an
-// open mesh (every triangle occludes from both sides, its caps face the light) an interior
-// silhouette edge bounds two faces' regions and counts twice, a boundary edge once.
+// A silhouette edge in world space: an edge of the boundary of the caps (buildSsvGeometry), oriented
+// the way the caps, wound to face the light centre, run it (on a closed mesh: the face facing the
+// light lies on its left seen from the light, as orientSilhouetteEdge), with its weight, the number
+// of caps' sides it carries: 1 on a solid; on a sheet (every triangle occludes from both sides) an
+// interior silhouette edge bounds two caps and counts twice, a boundary edge once.
 struct SsvEdge {
     glm::vec3 a{0.0f}, b{0.0f};
     float weight = 1.0f;
     int object = 0;  // index into scene.objects
-    uint32_t topologyEdge = 0;
+    uint32_t topologyEdge = 0;  // MeshTopology::Edge::kNone: a spoke of a fan closing a solid's opening
     bool boundary = false;
 };
 

@@ -15,6 +15,7 @@
 #include "image/image.h"
 #include "scene/scene.h"
 #include "support/cli_run.h"
+#include "support/real_meshes.h"
 
 namespace fs = std::filesystem;
 
@@ -156,7 +157,8 @@ TEST(Cli, ListJsonDescribesTechniquesAndScenes) {
     EXPECT_EQ(ids, (std::set<std::string>{"hard", "pcf", "pcss", "sssm", "ssm-gbp06", "ssm-contour", "ssv", "pvm", "pvmf", "spsm", "auto",
                                     "reference", "raytraced"}));
     EXPECT_GE(j["scenes"].size(), 9u);
-    for (const auto& s : j["scenes"]) EXPECT_FALSE(s.contains("error")) << s.dump();
+    for (const auto& s : j["scenes"])  // a real-mesh scene whose glTF was not fetched fails to load, and says so
+        EXPECT_EQ(s.contains("error"), !shadowlab::testing::sceneCanLoad(s["name"])) << s.dump();
     EXPECT_EQ(run("list").code, 0);
 }
 

@@ -15,6 +15,7 @@
 #include "image/metrics.h"
 #include "scene/scene.h"
 #include "support/cli_run.h"
+#include "support/real_meshes.h"
 #include "window/window.h"
 
 namespace {
@@ -67,7 +68,7 @@ TEST(Window, EveryTechniqueSceneCameraLightAndResize) {
     std::vector<std::string> techniques;
     for (const shadowlab::TechniqueDesc* d : shadowlab::allTechniques())
         if (d->id != "raytraced") techniques.push_back(d->id);  // progressive on a thread (tested below)
-    std::vector<std::string> scenes = shadowlab::listScenes();
+    std::vector<std::string> scenes = shadowlab::testing::loadableScenes();
     ASSERT_GE(techniques.size(), 3u);
     ASSERT_GE(scenes.size(), 2u);
 

@@ -24,6 +24,7 @@
 #include "graph/technique.h"
 #include "scene/scene.h"
 #include "support/gl_fixture.h"
+#include "support/real_meshes.h"
 
 namespace shadowlab {
 namespace {
@@ -108,7 +109,7 @@ TEST_F(Soak, EveryTechniqueOnEverySceneReturnsToItsLevel) {
     const LiveObjects before = liveObjects();
     const GpuMemoryStats gpuBefore = gpuMemory();
     std::vector<Scene> scenes;
-    for (const std::string& name : listScenes()) scenes.push_back(loadScene(name));
+    for (const std::string& name : testing::loadableScenes()) scenes.push_back(loadScene(name));
     ASSERT_GE(scenes.size(), 9u);
     std::vector<std::string> techniques, drawHeavy;
     for (const TechniqueDesc* d : allTechniques()) {

@@ -31,6 +31,7 @@
 #include "scene/scene.h"
 #include "support/cli_run.h"
 #include "support/gl_fixture.h"
+#include "support/real_meshes.h"
 
 namespace fs = std::filesystem;
 
@@ -629,7 +630,7 @@ TEST(Stage2Stats, FrameCostSplitsNeededPassesByTechnique) {
 TEST(Stage2Reuse, CheckReusePassesOnEveryTechniqueAndScene) {
     std::string dir = tmpDir();
     std::vector<std::string> commands, labels;
-    for (const std::string& scene : listScenes()) {
+    for (const std::string& scene : testing::loadableScenes()) {
         for (const TechniqueDesc* d : allTechniques()) {
             std::string sets = d->id == "reference" ? " --set samples=4" : d->id == "raytraced" ? " --set rays=2" : "";
             if (d->findParam("sm_size")) sets += " --set sm_size=256";

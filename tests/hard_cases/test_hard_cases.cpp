@@ -20,6 +20,7 @@
 #include "support/gl_fixture.h"
 #include "support/shadow_map_settings.h"
 #include "support/hard_case_util.h"
+#include "support/real_meshes.h"
 
 namespace shadowlab {
 namespace {
@@ -578,7 +579,7 @@ TEST_F(HardCase, MonotoneAsTheOccluderGrows) {
 
 // Every technique on every shipped scene, at 24x24: the invariants hold (a broad net for NaN).
 TEST_F(HardCase, EveryShippedSceneKeepsTheInvariants) {
-    for (const std::string& name : listScenes()) {
+    for (const std::string& name : testing::loadableScenes()) {
         const Scene scene = loadScene(name);
         for (const char* t : {"hard", "pcf", "reference", "raytraced"}) {
             const Render r = render(scene, t, t == std::string("raytraced") ? Sets{{"rays", "4"}} : t == std::string("reference") ? Sets{{"samples", "4"}} : Sets{}, {}, 24);

@@ -15,6 +15,7 @@
 #include "shared/shared.h"
 #include "support/cli_run.h"
 #include "support/gl_fixture.h"
+#include "support/real_meshes.h"
 
 namespace shadowlab {
 namespace {
@@ -232,7 +233,7 @@ TEST_F(SssmRender, StatsShowThePapersSteps) {
 // Every scene: visibility in [0, 1], no NaN, including the viewport's borders (where the
 // screen-space steps fall back on the shadow map).
 TEST_F(SssmRender, EveryScenesVisibilityIsInUnitRange) {
-    for (const std::string& scene : listScenes()) {
+    for (const std::string& scene : testing::loadableScenes()) {
         Frame f = renderSssm(scene, {{"sm_size", "512"}}, 64);
         for (float v : f.visibility.data) {
             ASSERT_TRUE(std::isfinite(v)) << scene;

@@ -16,7 +16,8 @@ struct Result {
     vec4 plane;      // pvmCuttingPlane(v1, v2, p)
     vec4 normals;    // pvmPlaneNormal(v1, v2, l), pvmFalloff(k)
     vec4 values;     // pvmVisibility(p, v1, v2, l, r), pvmLightRadius(shape, size), displaced light .xy
-    vec4 edgeEnd;    // pvmEdgeEndExtrusion(v0, v1, v2, l, r, side, own edge: 0 for even cases, 1 for odd)
+    vec4 edgeEnd;    // pvmEdgeEndExtrusion(v0, v1, v2, l, r, side, own edge: 0 for even cases, 1 for odd),
+                     // pvmSideVisibility(pvmVisibility(...), centre visible for i % 3 == 0)
 };
 layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
 layout(std430, binding = 1) writeonly buffer Results { Result results[]; };
@@ -38,6 +39,7 @@ void main() {
     vec3 d = pvmDisplacedLight(c.light.xyz, n, r, c.v1.w);
     res.values = vec4(pvmVisibility(c.p.xyz, c.v1.xyz, c.v2.xyz, c.light.xyz, r),
                       pvmLightRadius(int(c.p.w), c.light.w), d.x, d.y);
-    res.edgeEnd = vec4(pvmEdgeEndExtrusion(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.light.xyz, r, c.v1.w, float(i % 2u)), 0.0);
+    res.edgeEnd = vec4(pvmEdgeEndExtrusion(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.light.xyz, r, c.v1.w, float(i % 2u)),
+                      pvmSideVisibility(res.values.x, i % 3u == 0u ? 1.0 : 0.0));
     results[i] = res;
 }

@@ -482,7 +482,7 @@ Scene loadScene(const std::string& nameOrPath, const SceneLimits& limits) {
         return nameOrPath.size() >= s.size() && nameOrPath.compare(nameOrPath.size() - s.size(), s.size(), s) == 0;
     };
     if (endsWith(".gltf") || endsWith(".glb")) return sceneAroundGltf(nameOrPath, limits);
-    if (isRandomSceneName(nameOrPath)) return randomScene(nameOrPath);
+    if (isRandomSceneName(nameOrPath)) return randomScene(nameOrPath, limits);
     const std::string path = resolveScenePath(nameOrPath);
     // Through the input gate (scene/input_file.h): a regular file of at most 256 MB (far beyond any
     // scene: geometry comes from primitives, generators and glTF), opened once.

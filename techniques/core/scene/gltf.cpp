@@ -501,7 +501,15 @@ namespace {
 void parseGltf(const std::string& path, tinygltf::Model& model) {
     namespace fs = std::filesystem;
     std::error_code ec;
-    if (!fs::exists(fs::symlink_status(path, ec))) throw InputError(path + ": no such glTF file");
+    if (!fs::exists(fs::symlink_status(path, ec))) {
+        // The real-mesh test set is fetched, not shipped: say what makes it.
+        const bool realMesh = fs::path(path).lexically_normal().parent_path().filename() == "real" &&
+                              fs::path(path).lexically_normal().parent_path().parent_path().filename() == "models";
+        throw InputError(path + ": no such glTF file" +
+                         (realMesh ? std::string(" (the real-mesh test set: scripts/fetch-meshes.sh makes it, "
+                                                 "assets/models/README.md)")
+                                   : std::string()));
+    }
     std::string extension = fs::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });

@@ -4,6 +4,7 @@
 #include "scene/mesh_topology.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
@@ -146,53 +147,15 @@ glm::dvec3 corner(const MeshTopology& topology, uint32_t triangle, int k) {
 
 }  // namespace
 
-MeshTopology buildTopology(const Mesh& mesh, float weldTolerance) {
-    MeshTopology topology;
-    // Default tolerance: 1e-6 of the bounding-box diagonal, far above float rounding of positions
-    // computed twice by the same formula and far below any feature a scene models.
-    if (weldTolerance < 0.0f) {
-        Bounds bounds;
-        for (const glm::vec3& p : mesh.positions)
-            if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) bounds.extend(p);
-        weldTolerance = bounds.empty() ? 0.0f : 1e-6f * glm::length(bounds.hi - bounds.lo);
-    }
-    topology.weldTolerance = weldTolerance;
-    weld(mesh.positions, weldTolerance, topology);
+namespace {
 
-    // Triangles, their normals, and the degenerate ones: repeated welded corners, or a height
-    // (twice the area over the longest side) within the weld tolerance, the same distance under
-    // which two vertices merge.
-    const size_t triangleCount = mesh.triangleCount();
-    topology.triangles.resize(triangleCount);
-    topology.faceNormals.assign(triangleCount, glm::vec3(0.0f));
+// The winged edges of the non-degenerate triangles (cleared and rebuilt: orientComponents calls it
+// again after flipping triangles).
+void buildEdges(MeshTopology& topology) {
+    const size_t triangleCount = topology.triangles.size();
+    topology.edges.clear();
     topology.edgesOfTriangle.assign(triangleCount, glm::uvec3(MeshTopology::Edge::kNone));
-    for (size_t t = 0; t < triangleCount; ++t) {
-        glm::uvec3 tri;
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t index = mesh.indices[3 * t + k];
-            if (index >= mesh.positions.size()) {
-                std::fprintf(stderr, "buildTopology: triangle %zu index %u >= %zu positions\n", t, index,
-                             mesh.positions.size());
-                std::abort();
-            }
-            tri[k] = topology.weldedFromMeshVertex[index];
-        }
-        topology.triangles[t] = tri;
-        const glm::dvec3 a = corner(topology, uint32_t(t), 0), b = corner(topology, uint32_t(t), 1),
-                         c = corner(topology, uint32_t(t), 2);
-        const glm::dvec3 n = glm::cross(b - a, c - a);
-        const double twiceArea = glm::length(n);
-        const double longest =
-            std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-        const bool repeated = tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0];
-        if (repeated || !(twiceArea > static_cast<double>(weldTolerance) * longest) || !(twiceArea > 0.0) ||
-            !std::isfinite(twiceArea)) {
-            topology.degenerateTriangles.push_back(uint32_t(t));
-            continue;
-        }
-        topology.faceNormals[t] = glm::vec3(n / twiceArea);
-    }
-
+    topology.consistentlyOriented = true;
     // Half-edges bucketed by their smaller vertex (counting sort, stable in triangle order).
     const size_t vertexCount = topology.vertices.size();
     std::vector<uint32_t> bucketStart(vertexCount + 1, 0);
@@ -250,6 +213,274 @@ MeshTopology buildTopology(const Mesh& mesh, float weldTolerance) {
             run = end;
         }
     }
+}
+
+// Triangles with the same three welded corners as an earlier one, in either winding (a mesh
+// exported twice, a two-sided plane modelled as two faces): the later ones are left out of the edge
+// structure like degenerate triangles, so that the first one's edges keep two faces.
+void markDuplicates(MeshTopology& topology) {
+    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keys;
+    keys.reserve(topology.triangles.size());
+    for (size_t t = 0; t < topology.triangles.size(); ++t) {
+        if (topology.faceNormals[t] == glm::vec3(0.0f)) continue;
+        std::array<uint32_t, 3> k = {topology.triangles[t][0], topology.triangles[t][1], topology.triangles[t][2]};
+        std::sort(k.begin(), k.end());
+        keys.push_back({k, uint32_t(t)});
+    }
+    std::sort(keys.begin(), keys.end());
+    for (size_t i = 1; i < keys.size(); ++i)
+        if (keys[i].first == keys[i - 1].first) {
+            const uint32_t t = keys[i].second;
+            topology.duplicateTriangles.push_back(t);
+            topology.degenerateTriangles.push_back(t);
+            topology.faceNormals[t] = glm::vec3(0.0f);
+        }
+    std::sort(topology.duplicateTriangles.begin(), topology.duplicateTriangles.end());
+    std::sort(topology.degenerateTriangles.begin(), topology.degenerateTriangles.end());
+}
+
+// Walks each patch of triangles joined by two-face edges and flips the ones wound against the
+// patch's first triangle, then flips the whole patch if most of its area was wound the other way
+// (the author's majority decides which side is out). Returns the triangles flipped. A patch that
+// cannot be oriented (a Moebius strip) keeps the first winding found for each triangle.
+size_t orientComponents(MeshTopology& topology) {
+    const size_t n = topology.triangles.size();
+    std::vector<int8_t> flip(n, -1);  // -1 not reached, 0 kept, 1 flipped
+    std::vector<uint32_t> patch, stack;
+    size_t flipped = 0;
+    const auto area = [&](uint32_t t) {
+        const glm::dvec3 a = corner(topology, t, 0), b = corner(topology, t, 1), c = corner(topology, t, 2);
+        return glm::length(glm::cross(b - a, c - a));
+    };
+    for (uint32_t seed = 0; seed < n; ++seed) {
+        if (flip[seed] >= 0 || topology.edgesOfTriangle[seed][0] == MeshTopology::Edge::kNone) continue;
+        patch.clear();
+        flip[seed] = 0;
+        stack.push_back(seed);
+        while (!stack.empty()) {
+            const uint32_t t = stack.back();
+            stack.pop_back();
+            patch.push_back(t);
+            for (int k = 0; k < 3; ++k) {
+                const MeshTopology::Edge& e = topology.edges[topology.edgesOfTriangle[t][k]];
+                if (e.faceCount != 2) continue;
+                const uint32_t other = uint32_t(e.face0 == int32_t(t) ? e.face1 : e.face0);
+                if (flip[other] >= 0) continue;
+                // Consistent: the two faces traverse the edge in opposite directions, once each
+                // face's own flip is applied.
+                const bool tForward = runs(topology.triangles[t], e.v0, e.v1) != (flip[t] == 1);
+                const bool oForward = runs(topology.triangles[other], e.v0, e.v1);
+                flip[other] = tForward == oForward ? 1 : 0;
+                stack.push_back(other);
+            }
+        }
+        double kept = 0.0, reversed = 0.0;
+        for (uint32_t t : patch) (flip[t] ? reversed : kept) += area(t);
+        const bool invert = reversed > kept;
+        for (uint32_t t : patch) {
+            if ((flip[t] == 1) == invert) continue;
+            std::swap(topology.triangles[t][1], topology.triangles[t][2]);
+            topology.faceNormals[t] = -topology.faceNormals[t];
+            topology.reorientedTriangles.push_back(t);
+            ++flipped;
+        }
+    }
+    std::sort(topology.reorientedTriangles.begin(), topology.reorientedTriangles.end());
+    return flipped;
+}
+
+// Connected components across every shared edge (two faces or more) and, per component, its area
+// (its openings' area: fillOpenings). Non-manifold edges join: a scanned solid with a few of them is
+// still one solid.
+void findComponents(MeshTopology& topology) {
+    const size_t n = topology.triangles.size();
+    topology.componentOfTriangle.assign(n, MeshTopology::Edge::kNone);
+    topology.components.clear();
+    // Faces per edge, for walking across non-manifold edges (the winged edge keeps two).
+    std::vector<uint32_t> start(topology.edges.size() + 1, 0), faces;
+    for (size_t t = 0; t < n; ++t)
+        if (topology.edgesOfTriangle[t][0] != MeshTopology::Edge::kNone)
+            for (int k = 0; k < 3; ++k) ++start[topology.edgesOfTriangle[t][k] + 1];
+    for (size_t e = 0; e < topology.edges.size(); ++e) start[e + 1] += start[e];
+    faces.resize(start.back());
+    {
+        std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+        for (size_t t = 0; t < n; ++t)
+            if (topology.edgesOfTriangle[t][0] != MeshTopology::Edge::kNone)
+                for (int k = 0; k < 3; ++k) faces[fill[topology.edgesOfTriangle[t][k]]++] = uint32_t(t);
+    }
+    std::vector<uint32_t> stack;
+    for (uint32_t seed = 0; seed < n; ++seed) {
+        if (topology.componentOfTriangle[seed] != MeshTopology::Edge::kNone ||
+            topology.edgesOfTriangle[seed][0] == MeshTopology::Edge::kNone)
+            continue;
+        const uint32_t id = uint32_t(topology.components.size());
+        MeshTopology::Component c;
+        topology.componentOfTriangle[seed] = id;
+        stack.push_back(seed);
+        while (!stack.empty()) {
+            const uint32_t t = stack.back();
+            stack.pop_back();
+            ++c.triangles;
+            const glm::dvec3 a = corner(topology, t, 0), b = corner(topology, t, 1), d = corner(topology, t, 2);
+            const glm::dvec3 twice = glm::cross(b - a, d - a);
+            c.area += 0.5 * glm::length(twice);
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t ei = topology.edgesOfTriangle[t][k];
+                const MeshTopology::Edge& e = topology.edges[ei];
+                if (e.boundary()) ++c.boundaryEdges;
+                if (e.faceCount == 2) {
+                    const uint32_t other = uint32_t(e.face0 == int32_t(t) ? e.face1 : e.face0);
+                    if (runs(topology.triangles[t], e.v0, e.v1) == runs(topology.triangles[other], e.v0, e.v1))
+                        c.orientable = false;
+                }
+                for (uint32_t i = start[ei]; i < start[ei + 1]; ++i) {
+                    const uint32_t other = faces[i];
+                    if (topology.componentOfTriangle[other] != MeshTopology::Edge::kNone) continue;
+                    topology.componentOfTriangle[other] = id;
+                    stack.push_back(other);
+                }
+            }
+        }
+        topology.components.push_back(c);
+    }
+    // Each non-manifold edge once, in the component it belongs to.
+    for (size_t e = 0; e < topology.edges.size(); ++e)
+        if (topology.edges[e].nonManifold())
+            ++topology.components[topology.componentOfTriangle[size_t(topology.edges[e].face0)]].nonManifoldEdges;
+}
+
+// The openings: boundary edges grouped by the vertices they share (union-find). Each opening's area
+// is the length of its vector area, half the sum of (a - c) x (b - c) over its edges a -> b as their
+// faces run them, c its centre (the area of the flat patch that would close a planar opening); a
+// component's openArea is the sum over its openings. Then MeshTopology::holeFills: each opening of a solid component closed
+// by a fan about its centre, the mean of its vertices.
+void fillOpenings(MeshTopology& topology) {
+    std::vector<uint32_t> parent;
+    std::vector<uint32_t> slot(topology.vertices.size(), MeshTopology::Edge::kNone);
+    std::vector<uint32_t> vertexOf;
+    const auto find = [&](uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    const auto slotOf = [&](uint32_t v) {
+        if (slot[v] == MeshTopology::Edge::kNone) {
+            slot[v] = uint32_t(parent.size());
+            parent.push_back(slot[v]);
+            vertexOf.push_back(v);
+        }
+        return slot[v];
+    };
+    std::vector<MeshTopology::HoleFill> edges;
+    for (uint32_t e = 0; e < topology.edges.size(); ++e) {
+        const MeshTopology::Edge& edge = topology.edges[e];
+        if (!edge.boundary()) continue;
+        MeshTopology::HoleFill f;
+        const bool forward = runs(topology.triangles[size_t(edge.face0)], edge.v0, edge.v1);
+        f.a = forward ? edge.v0 : edge.v1;
+        f.b = forward ? edge.v1 : edge.v0;
+        f.edge = e;
+        const uint32_t x = find(slotOf(f.a)), y = find(slotOf(f.b));
+        if (x != y) parent[x] = y;
+        edges.push_back(f);
+    }
+    if (edges.empty()) return;
+    // Per opening (indexed by its root's order of appearance): centre, vector area, component.
+    std::vector<uint32_t> openingOfRoot(parent.size(), MeshTopology::Edge::kNone);
+    std::vector<glm::dvec3> sum, vectorArea;
+    std::vector<double> count;
+    std::vector<uint32_t> componentOf;
+    for (uint32_t i = 0; i < parent.size(); ++i) {
+        const uint32_t r = find(i);
+        if (openingOfRoot[r] == MeshTopology::Edge::kNone) {
+            openingOfRoot[r] = uint32_t(sum.size());
+            sum.push_back(glm::dvec3(0.0));
+            vectorArea.push_back(glm::dvec3(0.0));
+            count.push_back(0.0);
+            componentOf.push_back(MeshTopology::Edge::kNone);
+        }
+        sum[openingOfRoot[r]] += glm::dvec3(topology.vertices[vertexOf[i]]);
+        count[openingOfRoot[r]] += 1.0;
+    }
+    for (MeshTopology::HoleFill& f : edges) {
+        const uint32_t o = openingOfRoot[find(slot[f.a])];
+        f.centre = o;
+        // About the opening's centre: the same for a closed loop, and the fan's area for a chain that
+        // ends at a non-manifold vertex (which about the origin would depend on where the origin is).
+        const glm::dvec3 c = sum[o] / count[o];
+        vectorArea[o] += 0.5 * glm::cross(glm::dvec3(topology.vertices[f.a]) - c, glm::dvec3(topology.vertices[f.b]) - c);
+        if (componentOf[o] == MeshTopology::Edge::kNone)
+            componentOf[o] = topology.componentOfTriangle[size_t(topology.edges[f.edge].face0)];
+    }
+    for (size_t o = 0; o < sum.size(); ++o) topology.components[componentOf[o]].openArea += glm::length(vectorArea[o]);
+    // The fans, for the openings of solid components (renumbered: fillCentres holds only theirs).
+    std::vector<uint32_t> centre(sum.size(), MeshTopology::Edge::kNone);
+    for (const MeshTopology::HoleFill& f : edges) {
+        if (!topology.components[componentOf[f.centre]].solid()) continue;
+        if (centre[f.centre] == MeshTopology::Edge::kNone) {
+            centre[f.centre] = uint32_t(topology.fillCentres.size());
+            topology.fillCentres.push_back(glm::vec3(sum[f.centre] / count[f.centre]));
+        }
+        MeshTopology::HoleFill fill = f;
+        fill.centre = centre[f.centre];
+        topology.holeFills.push_back(fill);
+    }
+}
+
+}  // namespace
+
+MeshTopology buildTopology(const Mesh& mesh, float weldTolerance) {
+    MeshTopology topology;
+    // Default tolerance: 1e-6 of the bounding-box diagonal, far above float rounding of positions
+    // computed twice by the same formula and far below any feature a scene models.
+    if (weldTolerance < 0.0f) {
+        Bounds bounds;
+        for (const glm::vec3& p : mesh.positions)
+            if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) bounds.extend(p);
+        weldTolerance = bounds.empty() ? 0.0f : 1e-6f * glm::length(bounds.hi - bounds.lo);
+    }
+    topology.weldTolerance = weldTolerance;
+    weld(mesh.positions, weldTolerance, topology);
+
+    // Triangles, their normals, and the degenerate ones: repeated welded corners, or a height
+    // (twice the area over the longest side) within the weld tolerance, the same distance under
+    // which two vertices merge.
+    const size_t triangleCount = mesh.triangleCount();
+    topology.triangles.resize(triangleCount);
+    topology.faceNormals.assign(triangleCount, glm::vec3(0.0f));
+    topology.edgesOfTriangle.assign(triangleCount, glm::uvec3(MeshTopology::Edge::kNone));
+    for (size_t t = 0; t < triangleCount; ++t) {
+        glm::uvec3 tri;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t index = mesh.indices[3 * t + k];
+            if (index >= mesh.positions.size()) {
+                std::fprintf(stderr, "buildTopology: triangle %zu index %u >= %zu positions\n", t, index,
+                             mesh.positions.size());
+                std::abort();
+            }
+            tri[k] = topology.weldedFromMeshVertex[index];
+        }
+        topology.triangles[t] = tri;
+        const glm::dvec3 a = corner(topology, uint32_t(t), 0), b = corner(topology, uint32_t(t), 1),
+                         c = corner(topology, uint32_t(t), 2);
+        const glm::dvec3 n = glm::cross(b - a, c - a);
+        const double twiceArea = glm::length(n);
+        const double longest =
+            std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+        const bool repeated = tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0];
+        if (repeated || !(twiceArea > static_cast<double>(weldTolerance) * longest) || !(twiceArea > 0.0) ||
+            !std::isfinite(twiceArea)) {
+            topology.degenerateTriangles.push_back(uint32_t(t));
+            continue;
+        }
+        topology.faceNormals[t] = glm::vec3(n / twiceArea);
+    }
+
+    markDuplicates(topology);
+    buildEdges(topology);
+    if (!topology.consistentlyOriented && orientComponents(topology) > 0) buildEdges(topology);
+    findComponents(topology);
+    fillOpenings(topology);
     return topology;
 }
 

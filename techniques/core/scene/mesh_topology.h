@@ -39,15 +39,56 @@ struct MeshTopology {
     std::vector<uint32_t> weldedFromMeshVertex;       // Mesh position index -> welded vertex
     std::vector<glm::uvec3> triangles;                // one per Mesh triangle, same order, welded
     std::vector<glm::vec3> faceNormals;               // unit, cross(b - a, c - a); zero if degenerate
-    std::vector<uint32_t> degenerateTriangles;        // ascending; not in the edge structure
+    std::vector<uint32_t> degenerateTriangles;        // ascending; not in the edge structure (duplicates too)
+    // Triangles with the corners of an earlier one, in either winding: in degenerateTriangles too,
+    // so the first one alone is in the edge structure (a duplicated mesh stays a manifold).
+    std::vector<uint32_t> duplicateTriangles;
+    // Triangles whose winding buildTopology reversed so that every edge with two faces is traversed
+    // in opposite directions (see consistentlyOriented); `triangles` and `faceNormals` hold the
+    // reversed ones. Within a patch joined by two-face edges, the winding of most of its area wins.
+    std::vector<uint32_t> reorientedTriangles;
     std::vector<Edge> edges;                          // sorted by (v0, v1)
     // edgesOfTriangle[t][k]: the edge from triangles[t][k] to triangles[t][(k + 1) % 3];
     // Edge::kNone for degenerate triangles.
     std::vector<glm::uvec3> edgesOfTriangle;
     float weldTolerance = 0.0f;                       // the distance used (object space)
     // Every edge with two faces is traversed in opposite directions by them (non-manifold edges are
-    // not judged). Outward normals of a closed mesh then all point outwards or all inwards.
+    // not judged). Outward normals of a closed mesh then all point outwards or all inwards. False
+    // after buildTopology only where no winding makes it so (a non-orientable patch).
     bool consistentlyOriented = true;
+
+    // A connected component: triangles joined by shared edges (two faces or more).
+    struct Component {
+        size_t triangles = 0;
+        double area = 0.0;
+        // The area its openings span: per opening (boundary edges joined at their vertices), the
+        // length of its vector area (half the sum of (a - c) x (b - c) over its edges a -> b, c the
+        // opening's centre), summed. 0 for a
+        // closed surface; the whole area for a flat sheet, half of it for a hemisphere.
+        double openArea = 0.0;
+        size_t boundaryEdges = 0, nonManifoldEdges = 0;
+        bool orientable = true;
+        // A solid with openings (a scanned model with holes, a box missing a face): orientable (every
+        // two-face edge run both ways) and its openings span at most kSolidOpenFraction of its area. Shadow volumes cap it on one
+        // side (techniques/ssv/README.md); any other patch is a sheet, which occludes from both.
+        static constexpr double kSolidOpenFraction = 0.25;
+        bool solid() const { return orientable && openArea <= kSolidOpenFraction * area; }
+    };
+    std::vector<Component> components;
+    std::vector<uint32_t> componentOfTriangle;        // per triangle; Edge::kNone for degenerate ones
+
+    // The openings of the solid components closed by fans (shadow volumes need a closed surface to
+    // cap on one side: techniques/ssv/README.md). Boundary edges joined at their vertices form an
+    // opening; its centre is the mean of its vertices; each of its boundary edges, run a -> b by its
+    // face, is closed by the triangle (b, a, centre), wound like the mesh, so that the filled
+    // surface is closed and consistently wound wherever the opening is a simple loop.
+    struct HoleFill {
+        uint32_t a = 0, b = 0;  // welded vertices
+        uint32_t centre = 0;    // index into fillCentres
+        uint32_t edge = 0;      // the boundary edge closed
+    };
+    std::vector<glm::vec3> fillCentres;
+    std::vector<HoleFill> holeFills;
 
     size_t boundaryEdges() const;
     size_t nonManifoldEdges() const;

@@ -1,9 +1,14 @@
 // Generated scenes (issue 25): "random:SEED" is a scene of casters, a light and a camera drawn from
 // a seed, so `auto`'s calibration and its tests can be judged on scenes nobody tuned by hand. The
 // same seed gives the same scene on every platform (own PRNG, no std distributions).
+// "random:SEED:mesh=NAME" (issue 57) is the same scene with one real mesh of the test set
+// (assets/models/README.md) added as a further caster, placed from its own stream of the seed.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "error.h"
 #include "scene/scene.h"
@@ -34,20 +39,84 @@ glm::mat4 translateRotateY(const glm::vec3& t, float radians) {
     return m;
 }
 
+const char* const kSyntax = "random:SEED or random:SEED:mesh=NAME";
+
+std::string joined(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+}
+
+// The options after "random:SEED": ":mesh=NAME" (at most once) is the only one.
+std::string parseMeshOption(const std::string& name, const std::string& options) {
+    std::string mesh;
+    size_t at = 0;
+    while (at < options.size()) {
+        const size_t end = std::min(options.find(':', at + 1), options.size());
+        const std::string option = options.substr(at + 1, end - at - 1);  // after the ':'
+        at = end;
+        if (option.rfind("mesh=", 0) != 0)
+            throw InputError("scene '" + name + "': expected " + kSyntax + ", got the option '" + option +
+                             "' (the only option is mesh=NAME)");
+        if (!mesh.empty()) throw InputError("scene '" + name + "': mesh= given twice, expected " + kSyntax);
+        mesh = option.substr(5);
+        const std::vector<std::string>& known = realMeshNames();
+        if (std::find(known.begin(), known.end(), mesh) == known.end())
+            throw InputError("scene '" + name + "': mesh=" + (mesh.empty() ? "(nothing)" : mesh) +
+                             ": expected one of the real meshes " + joined(known) + " (assets/models/README.md)");
+    }
+    return mesh;
+}
+
+// The real mesh as caster `id`: on the ground (the converter puts its bottom on y = 0) within the
+// casters' square, turned about y and scaled from 1.5 to 0.9 .. 1.8 units, all from `rng`.
+Object realMeshCaster(const std::string& mesh, int id, Rng& rng, const SceneLimits& limits) {
+    const std::string path = realMeshPath(mesh);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw InputError(path + ": no such glTF file, expected the real mesh '" + mesh +
+                         "' (made by scripts/fetch-meshes.sh, which the test build runs; assets/models/README.md)");
+    Object o;
+    o.id = id;
+    o.name = mesh;
+    o.source = "gltf:" + path;
+    o.mesh = loadGltfMesh(path, limits);
+    const glm::vec3 at(float(rng.uniform(-1.5, 1.5)), 0.0f, float(rng.uniform(-1.5, 1.5)));
+    const float yaw = float(rng.uniform(0.0, 6.2831853));
+    const float scale = float(rng.uniform(0.6, 1.2));
+    o.worldFromObject = translateRotateY(at, yaw) * glm::mat4(glm::mat3(scale));
+    o.albedo = glm::vec3(float(rng.uniform(0.4, 0.9)), float(rng.uniform(0.4, 0.9)), float(rng.uniform(0.4, 0.9)));
+    return o;
+}
+
 }  // namespace
+
+const std::vector<std::string>& realMeshNames() {
+    // The table of scripts/fetch-meshes.sh, sorted (tests/core/test_scene.cpp compares the two).
+    static const std::vector<std::string> names = {"boeing", "bunny", "chinese-dragon", "elephant-holes",
+                                                   "snowden", "stanford-dragon", "teapot"};
+    return names;
+}
+
+std::string realMeshPath(const std::string& name) {
+    return (std::filesystem::path(projectRoot()) / "assets" / "models" / "real" / (name + ".gltf")).string();
+}
 
 bool isRandomSceneName(const std::string& name) { return name.rfind("random:", 0) == 0; }
 
-Scene randomScene(const std::string& name) {
-    const std::string digits = name.substr(7);
+Scene randomScene(const std::string& name, const SceneLimits& limits) {
+    const size_t optionsAt = std::min(name.find(':', 7), name.size());
+    const std::string digits = name.substr(7, optionsAt - 7);
     if (digits.empty() || digits.size() > 19 || digits.find_first_not_of("0123456789") != std::string::npos)
-        throw InputError("scene '" + name + "': expected random:SEED with SEED a whole number of at most 19 digits");
+        throw InputError("scene '" + name + "': expected " + kSyntax + " with SEED a whole number of at most 19 digits");
+    const std::string mesh = parseMeshOption(name, name.substr(optionsAt));
     const uint64_t seed = std::stoull(digits);
     Rng rng{seed * 0x2545F4914F6CDD1Dull + 1};
     Scene scene;
-    scene.name = "random-" + digits;
+    scene.name = "random-" + digits + (mesh.empty() ? "" : "-" + mesh);
     scene.path = name;
-    scene.description = "generated scene (seed " + digits + "): casters over a ground quad, one light, one camera";
+    scene.description = "generated scene (seed " + digits + "): casters over a ground quad, one light, one camera" +
+                        (mesh.empty() ? std::string() : ", and the real mesh '" + mesh + "'");
 
     Object ground;
     ground.name = "ground";
@@ -110,6 +179,12 @@ Scene randomScene(const std::string& name) {
     scene.camera.position = scene.camera.target + float(distance) * glm::vec3(float(std::cos(elevation) * std::cos(azimuth)),
                                                                             float(std::sin(elevation)),
                                                                             float(std::cos(elevation) * std::sin(azimuth)));
+    if (!mesh.empty()) {
+        // Its own stream of the seed, drawn last: random:SEED's casters, light and camera stay as
+        // they are without the mesh (auto's calibration and tests name seeds).
+        Rng meshRng{seed * 0x9E6C63D0676A9A99ull + 7};
+        scene.objects.push_back(realMeshCaster(mesh, casters + 1, meshRng, limits));
+    }
     return scene;
 }
 

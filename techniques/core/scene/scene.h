@@ -189,8 +189,16 @@ uint64_t estimateGltfTriangles(const std::string& path);
 // "random:SEED": a generated scene (random_scene.cpp): 1 to 5 casters (boxes, spheres, cylinders,
 // thin plates; half touching the ground) over a ground quad, one square, disk or sphere light and a
 // camera, all drawn from SEED. loadScene accepts the name; the same seed gives the same scene.
+// "random:SEED:mesh=NAME" adds the real mesh NAME (realMeshNames) as one more caster at a position,
+// turn and scale drawn from SEED; the rest of the scene is random:SEED's.
 bool isRandomSceneName(const std::string& name);
-Scene randomScene(const std::string& name);  // InputError when SEED is not a whole number
+// InputError when SEED is not a whole number, an option is not mesh=NAME, NAME is not a real mesh,
+// or its file is missing (scripts/fetch-meshes.sh makes them).
+Scene randomScene(const std::string& name, const SceneLimits& limits = {});
+// The real-mesh test set (assets/models/README.md): its names, sorted, as scripts/fetch-meshes.sh
+// lists them, and the glTF file each becomes: <root>/assets/models/real/<name>.gltf.
+const std::vector<std::string>& realMeshNames();
+std::string realMeshPath(const std::string& name);
 
 // Project root (holding assets/ and shaders/): $SHADOWLAB_ROOT if set, else the source directory
 // the binary was built from.
