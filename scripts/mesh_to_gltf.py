@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Converts one public mesh to glTF 2.0 for the real-mesh test set (assets/models/README.md, issue 57).
+"""Converts one public mesh to glTF 2.0 for the real-mesh test set (assets/models/README.md).
 
 Standard library only, like scripts/make_gltf_model.py. scripts/fetch-meshes.sh fetches the packages
 and calls this once per mesh; it is not meant to be edited by hand, and neither are its outputs.

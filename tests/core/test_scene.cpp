@@ -888,7 +888,7 @@ TEST(Export, WriteTrianglesOBJ) {
     EXPECT_NE(message.find("/nonexistent-dir/x.obj"), std::string::npos);
 }
 
-// ---- the real-mesh test set (assets/models/README.md, issue 57) ---------------------------------------
+// ---- the real-mesh test set (assets/models/README.md) ---------------------------------------
 
 // realMeshNames(), the table of scripts/fetch-meshes.sh and the mesh-NAME scenes name the same meshes.
 TEST(RealMeshes, TheFetchScriptTheNamesAndTheScenesAgree) {

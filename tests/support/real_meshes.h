@@ -1,4 +1,4 @@
-// The real-mesh test set in tests that walk every shipped scene (assets/models/README.md, issue 57).
+// The real-mesh test set in tests that walk every shipped scene (assets/models/README.md).
 // Scene mesh-NAME draws the real mesh NAME, assets/models/real/NAME.gltf, which
 // scripts/fetch-meshes.sh makes when the tests are built (CMake target shadowlab_real_meshes). Where
 // it has not (SHADOWLAB_FETCH_MESHES=OFF, a copy of the tree without build/), such a scene cannot

@@ -1,7 +1,7 @@
 // Generated scenes (issue 25): "random:SEED" is a scene of casters, a light and a camera drawn from
 // a seed, so `auto`'s calibration and its tests can be judged on scenes nobody tuned by hand. The
 // same seed gives the same scene on every platform (own PRNG, no std distributions).
-// "random:SEED:mesh=NAME" (issue 57) is the same scene with one real mesh of the test set
+// "random:SEED:mesh=NAME" is the same scene with one real mesh of the test set
 // (assets/models/README.md) added as a further caster, placed from its own stream of the seed.
 #include <algorithm>
 #include <cmath>
