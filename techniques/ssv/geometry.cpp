@@ -223,8 +223,6 @@ SsvGeometry buildSsvGeometry(const Scene& scene, const std::vector<SsvCaster>& c
         if (topo.edges.empty()) continue;
         const glm::mat4 worldFromObject = object.worldFromObjectAt(t);
         const glm::vec3 lightInObject = glm::vec3(glm::inverse(worldFromObject) * glm::vec4(c, 1.0f));
-        // Non-manifold edges are handled exactly (below), but what is solid is judged per patch
-        // between them: said once, as every rule a mesh's shape changes.
         // What the topology repaired or closed, said once per object (the pass keeps what it said).
         if (!topo.reorientedTriangles.empty())
             g.warnings.push_back("object '" + object.name + "': " + std::to_string(topo.reorientedTriangles.size()) +
@@ -313,15 +311,13 @@ SsvGeometry buildSsvGeometry(const Scene& scene, const std::vector<SsvCaster>& c
             const bool faces = glm::dot(glm::cross(a - b, m - b), glm::dvec3(lightInObject) - b) > 0.0;
             centreOf[f.a] = centreOf[f.b] = f.centre;
             const MeshTopology::Component& component = topo.components[topo.componentOfTriangle[size_t(topo.edges[f.edge].face0)]];
-            if (faces || !component.solid()) continue;
+            if (faces || !component.solid()) continue;  // a solid caps its dark side
             const uint32_t centre = uint32_t(meshVertices + f.centre);
-            // Facing the light, (b, a, centre) runs b -> a, a -> centre and centre -> b; flipped,
-            // (b, centre, a) runs each the other way.
-            const int sign = faces ? 1 : -1;
-            addCap(faces ? glm::uvec3(f.b, f.a, centre) : glm::uvec3(f.b, centre, f.a));
-            chain[f.edge] += sign * (f.b == topo.edges[f.edge].v0 ? 1 : -1);
-            spoke[f.a] += sign;
-            spoke[f.b] -= sign;
+            // Flipped to face the light, (b, centre, a) runs a -> b, b -> centre and centre -> a.
+            addCap({f.b, centre, f.a});
+            chain[f.edge] += f.a == topo.edges[f.edge].v0 ? 1 : -1;
+            spoke[f.b] += 1;
+            spoke[f.a] -= 1;
         }
         auto addSilhouette = [&](uint32_t from, uint32_t to, int weight, uint32_t topologyEdge, bool boundary) {
             SsvEdge s;
