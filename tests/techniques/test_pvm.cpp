@@ -546,7 +546,8 @@ TEST_F(PvmRender, ExportedVolumesReRasterizedGiveThePvdm) {
         std::printf("[ pvm      ] %s, split_sides %s, %s: %zu of %d texels covered, %zu differ from the exported mesh "
                     "ray-cast\n", name, split, mapSide == 1.0f ? "pvdm_inner" : "pvdm", covered, pvdm.width * pvdm.height,
                     differ);
-        EXPECT_GT(covered, 25u);
+        // The inner volumes alone cover fewer texels (sphere-light: 32 at sm_size 96).
+        EXPECT_GT(covered, mapSide == 1.0f ? 25u : 50u);
         EXPECT_LE(differ, size_t(0.02 * pvdm.width * pvdm.height));
         }
     }
